@@ -1,0 +1,77 @@
+//! The command line (the only module that names clap). Raw arguments are validated into a
+//! resolved configuration in one step, before any work starts (ripgrep's LowArgs → HiArgs).
+//!
+//! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
+
+mod manifest;
+mod scan;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// A physically based simulator of a laser-line triangulation sensor looking at glass.
+#[derive(Debug, Parser)]
+#[command(name = "glassscan", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate the sensor at scan poses along the target's border and write images,
+    /// profiles and a manifest.
+    Scan(scan::ScanArgs),
+}
+
+/// A failure, with the exit code it maps to.
+#[derive(Debug)]
+pub struct CliError {
+    /// 2 for bad input, 1 otherwise.
+    pub code: u8,
+    /// What went wrong (with its causes).
+    pub error: anyhow::Error,
+}
+
+impl CliError {
+    /// A bad-input error (exit code 2).
+    pub fn input(error: impl Into<anyhow::Error>) -> Self {
+        CliError {
+            code: 2,
+            error: error.into(),
+        }
+    }
+
+    /// An internal or I/O error (exit code 1).
+    pub fn internal(error: impl Into<anyhow::Error>) -> Self {
+        CliError {
+            code: 1,
+            error: error.into(),
+        }
+    }
+}
+
+/// Parses the process arguments, runs the command and maps the outcome to an exit code.
+pub fn run() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints help/version to stdout (exit 0) and usage errors to stderr (exit 2).
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    let outcome = match cli.command {
+        Command::Scan(args) => scan::run(args),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {:#}", e.error);
+            ExitCode::from(e.code)
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! `glassscan scan SCENE --out DIR`: simulate every scan pose and write its files.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use clap::Args;
+
+use super::manifest::{FileEntry, Manifest, PoseEntry, Summary};
+use super::CliError;
+use crate::dataset::{exr, json, output_dir, png16, profile_csv};
+use crate::scan::poses::plan_border_scan;
+use crate::scan::simulate::simulate_pose;
+use crate::scan::ScanConfig;
+use crate::scene;
+use crate::sensor::SensorHead;
+use crate::transport::{TraceScene, TraceSettings};
+
+/// Arguments of `glassscan scan`.
+#[derive(Debug, Args)]
+pub struct ScanArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Output directory (created if missing; must be empty unless --force).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Scan angle above the surface's tangent plane, in degrees (0 < A ≤ 90); overrides [scan].
+    #[arg(long, value_name = "A")]
+    pub scan_angle_deg: Option<f64>,
+    /// Number of scan poses along the border (≥ 1); overrides [scan].
+    #[arg(long, value_name = "N")]
+    pub poses: Option<usize>,
+    /// Exposure time in milliseconds (> 0); overrides [sensor].
+    #[arg(long, value_name = "E")]
+    pub exposure_ms: Option<f64>,
+    /// Master seed of all random numbers.
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub seed: u64,
+    /// Laser photons traced per pose (≥ 1000).
+    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    pub photons: u64,
+    /// Longest photon path, in scattering vertices (≥ 1).
+    #[arg(long, value_name = "D", default_value_t = 16)]
+    pub max_depth: u32,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+    /// Write into a non-empty output directory (files are replaced one by one, atomically).
+    #[arg(long)]
+    pub force: bool,
+    /// Print a machine-readable summary on stdout instead of progress on stderr.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The validated run: everything resolved before any work starts.
+struct RunConfig {
+    world: scene::World,
+    scan: ScanConfig,
+    settings: TraceSettings,
+    out: PathBuf,
+    threads: Option<usize>,
+    json: bool,
+    force: bool,
+}
+
+fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
+    let mut world = scene::load(&args.scene).map_err(CliError::input)?;
+    let bad = |flag: &str, msg: String| CliError::input(anyhow::anyhow!("--{flag} {msg}"));
+    let mut scan = world.scan;
+    if let Some(a) = args.scan_angle_deg {
+        if !(a.is_finite() && a > 0.0 && a <= 90.0) {
+            return Err(bad(
+                "scan-angle-deg",
+                format!("must be in (0, 90], got {a}"),
+            ));
+        }
+        scan.scan_angle_rad = a.to_radians();
+    }
+    if let Some(n) = args.poses {
+        if n == 0 {
+            return Err(bad("poses", "must be ≥ 1, got 0".into()));
+        }
+        scan.poses = n;
+    }
+    if let Some(e) = args.exposure_ms {
+        if !(e.is_finite() && e > 0.0) {
+            return Err(bad("exposure-ms", format!("must be > 0, got {e}")));
+        }
+        world.sensor.imager.exposure_s = e * 1e-3;
+    }
+    if args.photons < 1000 {
+        return Err(bad(
+            "photons",
+            format!("must be ≥ 1000, got {}", args.photons),
+        ));
+    }
+    if args.max_depth == 0 {
+        return Err(bad("max-depth", "must be ≥ 1, got 0".into()));
+    }
+    if args.threads == Some(0) {
+        return Err(bad("threads", "must be ≥ 1, got 0".into()));
+    }
+    if world.target.is_none() {
+        return Err(CliError::input(anyhow::anyhow!(
+            "{}: the scene has no [target]: `scan` needs a panel whose border it scans",
+            args.scene.display()
+        )));
+    }
+    Ok(RunConfig {
+        world,
+        scan,
+        settings: TraceSettings {
+            photons: args.photons,
+            max_depth: args.max_depth,
+            seed: args.seed,
+        },
+        out: args.out,
+        threads: args.threads,
+        json: args.json,
+        force: args.force,
+    })
+}
+
+/// Runs `glassscan scan`.
+pub fn run(args: ScanArgs) -> Result<(), CliError> {
+    let cfg = resolve(args)?;
+    match cfg.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(CliError::internal)?
+            .install(|| execute(&cfg)),
+        None => execute(&cfg),
+    }
+}
+
+fn execute(cfg: &RunConfig) -> Result<(), CliError> {
+    let started = Instant::now();
+    let world = &cfg.world;
+    let head = SensorHead::new(&world.sensor)
+        .with_context(|| format!("{}: [sensor]", world.source.display()))
+        .map_err(CliError::input)?;
+    let trace_scene = TraceScene::new(world).map_err(CliError::input)?;
+    output_dir::prepare_output_dir(&cfg.out, cfg.force).map_err(CliError::input)?;
+
+    let target = world.target.as_ref().expect("resolve() checked the target");
+    let border_b = target
+        .border
+        .transformed(&world.objects[target.object].pose);
+    let poses = plan_border_scan(&border_b, &cfg.scan, &world.mount);
+    let bits_shift = 16 - world.sensor.imager.adc_bits;
+
+    let mut entries = Vec::with_capacity(poses.len());
+    for pose in &poses {
+        let result = simulate_pose(&trace_scene, &head, pose, &cfg.settings);
+        let stem = format!("pose_{:03}", pose.index);
+        let png = format!("{stem}.png");
+        let exr_name = format!("{stem}.exr");
+        let csv = format!("{stem}_profile.csv");
+        // Left-align the ADC value in 16 bits, as the SDK's container mode does (PARAMETERS.md §1b).
+        let mut shifted = result.image.clone();
+        for v in &mut shifted.data {
+            *v <<= bits_shift;
+        }
+        png16::write_png16(&cfg.out.join(&png), &shifted).map_err(CliError::internal)?;
+        let irradiance_f32: Vec<f32> = result.irradiance.data.iter().map(|&v| v as f32).collect();
+        exr::write_exr_layers(
+            &cfg.out.join(&exr_name),
+            result.irradiance.width,
+            result.irradiance.height,
+            &[("irradiance", &irradiance_f32)],
+        )
+        .map_err(CliError::internal)?;
+        profile_csv::write_profile_csv(&cfg.out.join(&csv), &result.profile)
+            .map_err(CliError::internal)?;
+        let entry = PoseEntry::new(
+            &result,
+            vec![
+                FileEntry::new("image", &png, "16-bit PNG, DN << (16 − adc_bits)"),
+                FileEntry::new(
+                    "irradiance",
+                    &exr_name,
+                    "EXR, f32 channel `irradiance` in W/m²",
+                ),
+                FileEntry::new("profile", &csv, "CSV profile in the sensor frame, mm"),
+            ],
+            world.sensor.imager.max_dn(),
+        );
+        if !cfg.json {
+            eprintln!(
+                "pose {}/{}: {} of {} profile points valid, p_e = ({:.2}, {:.2}, {:.2}) mm",
+                pose.index + 1,
+                poses.len(),
+                entry.valid_points,
+                result.profile.points.len(),
+                entry.edge_point_mm[0],
+                entry.edge_point_mm[1],
+                entry.edge_point_mm[2],
+            );
+        }
+        entries.push(entry);
+    }
+
+    let manifest = Manifest::new(world, &cfg.scan, &cfg.settings, entries, started.elapsed());
+    let manifest_path = cfg.out.join("manifest.json");
+    json::write_json_pretty(&manifest_path, &manifest).map_err(CliError::internal)?;
+    if cfg.json {
+        let summary = Summary::new(&manifest, &cfg.out, &manifest_path);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary).map_err(CliError::internal)?
+        );
+    } else {
+        eprintln!(
+            "wrote {} poses to {} in {:.2} s",
+            manifest.poses.len(),
+            display(&cfg.out),
+            manifest.elapsed_s
+        );
+    }
+    Ok(())
+}
+
+fn display(p: &Path) -> String {
+    p.display().to_string()
+}

@@ -1,0 +1,295 @@
+//! Multi-layer f32 OpenEXR for radiometric images (irradiance, and one layer per light-path
+//! class). One single-part scanline file holds one f32 channel per named layer, ZIP-compressed
+//! (lossless, so NaN payloads and subnormals such as 1e-30 survive bit for bit).
+//!
+//! Orientation: OpenEXR's y axis points down and its first scanline is the top row, so row 0
+//! of an [`Image`] is the top row of the file, as everywhere else in glassscan.
+//!
+//! Channel order: the OpenEXR format stores channels sorted by name, so `read_exr_layers`
+//! returns the layers in that (byte-wise alphabetical) order, whatever order they were written in.
+
+use std::fs::File;
+use std::io::{BufReader, Cursor};
+use std::path::Path;
+
+use exr::prelude::{
+    AnyChannel, AnyChannels, Blocks, Compression, Encoding, FlatSamples, Layer, LayerAttributes,
+    LineOrder, ReadChannels, ReadLayers, SmallVec, Text, WritableImage,
+};
+
+use super::atomic::write_atomic;
+use super::error::check_image_size;
+use super::DatasetError;
+use crate::sensor::image::Image;
+
+/// ZIP over blocks of 16 scanlines: lossless, and well supported by every EXR viewer. Scanlines
+/// in increasing y make the file bytes independent of how many threads compress them.
+const ENCODING: Encoding = Encoding {
+    compression: Compression::ZIP16,
+    blocks: Blocks::ScanLines,
+    line_order: LineOrder::Increasing,
+};
+
+/// Writes `layers` (name, row-major samples) as one f32 channel each into a `width` × `height`
+/// single-part scanline EXR at `path`, atomically.
+///
+/// Every layer must hold exactly `width * height` samples; names must be distinct, non-empty
+/// and Latin-1 (the EXR text type).
+pub fn write_exr_layers(
+    path: &Path,
+    width: usize,
+    height: usize,
+    layers: &[(&str, &[f32])],
+) -> Result<(), DatasetError> {
+    let layout_error = |expected: &str, found: String| DatasetError::ExrLayout {
+        path: path.to_path_buf(),
+        expected: expected.to_string(),
+        found,
+    };
+    if layers.is_empty() {
+        return Err(layout_error("at least one layer", "none".to_string()));
+    }
+    let mut channels = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
+    for (i, &(name, samples)) in layers.iter().enumerate() {
+        check_image_size(
+            path,
+            || format!("layer \"{name}\""),
+            width,
+            height,
+            samples.len(),
+        )?;
+        if layers[..i].iter().any(|&(other, _)| other == name) {
+            return Err(layout_error(
+                "distinct layer names",
+                format!("\"{name}\" twice"),
+            ));
+        }
+        let text = Text::new_or_none(name)
+            .filter(|_| !name.is_empty())
+            .ok_or_else(|| layout_error("a non-empty Latin-1 layer name", format!("\"{name}\"")))?;
+        channels.push(AnyChannel::new(text, FlatSamples::F32(samples.to_vec())));
+    }
+    let layer = Layer::new(
+        (width, height),
+        LayerAttributes::default(),
+        ENCODING,
+        AnyChannels::sort(channels),
+    );
+    // Encoding to memory first means an encoder error never leaves a temporary file behind,
+    // and the atomic writer does not need to offer `Seek`.
+    let mut encoded = Cursor::new(Vec::new());
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_buffered(&mut encoded)
+        .map_err(|source| DatasetError::Exr {
+            path: path.to_path_buf(),
+            expected: "layers the OpenEXR encoder accepts",
+            source,
+        })?;
+    let encoded = encoded.into_inner();
+    write_atomic(path, |w| w.write_all(&encoded))
+}
+
+/// Reads every channel of a single-part EXR as an f32 layer, in the file's (alphabetical)
+/// channel order. Channels stored as f16 or u32, subsampled channels and multi-part files are
+/// refused with [`DatasetError::ExrLayout`], never converted.
+pub fn read_exr_layers(path: &Path) -> Result<Vec<(String, Image<f32>)>, DatasetError> {
+    let file = File::open(path).map_err(|e| DatasetError::io(path, "open", e))?;
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_buffered(BufReader::new(file))
+        .map_err(|source| DatasetError::Exr {
+            path: path.to_path_buf(),
+            expected: "a valid OpenEXR file",
+            source,
+        })?;
+    let layout_error = |expected: String, found: String| DatasetError::ExrLayout {
+        path: path.to_path_buf(),
+        expected,
+        found,
+    };
+    let [layer] = image.layer_data.as_slice() else {
+        return Err(layout_error(
+            "a single-part EXR".to_string(),
+            format!("{} parts", image.layer_data.len()),
+        ));
+    };
+    let (width, height) = (layer.size.width(), layer.size.height());
+    let mut out = Vec::with_capacity(layer.channel_data.list.len());
+    for channel in &layer.channel_data.list {
+        let name = channel.name.to_string();
+        let data = match &channel.sample_data {
+            FlatSamples::F32(data) => data.clone(),
+            FlatSamples::F16(_) => {
+                return Err(layout_error(
+                    format!("f32 samples in channel \"{name}\""),
+                    "f16".to_string(),
+                ))
+            }
+            FlatSamples::U32(_) => {
+                return Err(layout_error(
+                    format!("f32 samples in channel \"{name}\""),
+                    "u32".to_string(),
+                ))
+            }
+        };
+        // A subsampled channel holds fewer samples than the layer has pixels.
+        if data.len() != width * height {
+            return Err(layout_error(
+                format!(
+                    "{} samples (width × height) in channel \"{name}\"",
+                    width * height
+                ),
+                data.len().to_string(),
+            ));
+        }
+        out.push((
+            name,
+            Image {
+                width,
+                height,
+                data,
+            },
+        ));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use exr::prelude::ReadSpecificChannel;
+
+    const WIDTH: usize = 5;
+    const HEIGHT: usize = 3;
+
+    /// Layer `a` is a gradient with special values; layer `b` is its negative.
+    fn layers() -> (Vec<f32>, Vec<f32>) {
+        let mut a: Vec<f32> = (0..WIDTH * HEIGHT).map(|i| i as f32 * 0.25 + 0.1).collect();
+        a[0] = f32::NAN;
+        a[1] = 1e-30;
+        a[2] = -0.0;
+        a[3] = f32::INFINITY;
+        a[4] = f32::from_bits(1); // The smallest subnormal.
+        let b = a.iter().map(|v| -v).collect();
+        (a, b)
+    }
+
+    fn bits(data: &[f32]) -> Vec<u32> {
+        data.iter().map(|v| v.to_bits()).collect()
+    }
+
+    #[test]
+    fn round_trip_is_bit_exact_and_sorted_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("irradiance.exr");
+        let (a, b) = layers();
+        // Written in non-alphabetical order on purpose.
+        write_exr_layers(&path, WIDTH, HEIGHT, &[("irradiance", &a), ("direct", &b)]).unwrap();
+        let read = read_exr_layers(&path).unwrap();
+        let names: Vec<&str> = read.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["direct", "irradiance"]);
+        for ((_, img), expected) in read.iter().zip([&b, &a]) {
+            assert_eq!((img.width, img.height), (WIDTH, HEIGHT));
+            assert_eq!(bits(&img.data), bits(expected));
+        }
+        assert!(read[1].1.data[0].is_nan());
+        assert_eq!(read[1].1.data[1], 1e-30);
+    }
+
+    #[test]
+    fn row_zero_is_the_top_scanline() {
+        // Read back through exr's per-pixel API, whose position y = 0 is the top scanline.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("irradiance.exr");
+        let (a, _) = layers();
+        write_exr_layers(&path, WIDTH, HEIGHT, &[("irradiance", &a)]).unwrap();
+        let image = exr::prelude::read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .specific_channels()
+            .required("irradiance")
+            .collect_pixels(
+                |size, _| vec![vec![0.0f32; size.width()]; size.height()],
+                |rows: &mut Vec<Vec<f32>>, position, (v,): (f32,)| {
+                    rows[position.y()][position.x()] = v
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .from_file(&path)
+            .unwrap();
+        let rows = &image.layer_data.channel_data.pixels;
+        assert_eq!((rows[0].len(), rows.len()), (WIDTH, HEIGHT));
+        for r in 0..HEIGHT {
+            for c in 0..WIDTH {
+                assert_eq!(rows[r][c].to_bits(), a[r * WIDTH + c].to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn wrong_sample_count_names_the_layer() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("irradiance.exr");
+        let (a, b) = layers();
+        let err = write_exr_layers(
+            &path,
+            WIDTH,
+            HEIGHT,
+            &[("irradiance", &a), ("direct", &b[1..])],
+        )
+        .unwrap_err();
+        assert!(matches!(
+            err,
+            DatasetError::SampleCount {
+                expected: 15,
+                found: 14,
+                ..
+            }
+        ));
+        assert!(err.to_string().contains("layer \"direct\""), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn bad_layer_lists_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("irradiance.exr");
+        let (a, b) = layers();
+        let none: &[(&str, &[f32])] = &[];
+        for list in [none, &[("x", &a), ("x", &b)], &[("", &a)], &[("λ", &a)]] {
+            let err = write_exr_layers(&path, WIDTH, HEIGHT, list).unwrap_err();
+            assert!(matches!(err, DatasetError::ExrLayout { .. }), "{err}");
+        }
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn f16_channel_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("half.exr");
+        let half = vec![exr::prelude::f16::from_f32(0.5); WIDTH * HEIGHT];
+        let channel = AnyChannel::new("Y", FlatSamples::F16(half));
+        let layer = Layer::new(
+            (WIDTH, HEIGHT),
+            LayerAttributes::default(),
+            ENCODING,
+            AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+        );
+        exr::prelude::Image::from_layer(layer)
+            .write()
+            .to_file(&path)
+            .unwrap();
+        let err = read_exr_layers(&path).unwrap_err();
+        let message = err.to_string();
+        assert!(
+            message.contains("half.exr") && message.contains("f16"),
+            "{message}"
+        );
+    }
+}

@@ -1,0 +1,127 @@
+//! JSON files (manifests, run configurations, metrics): pretty-printed on write, typed on read.
+//!
+//! Finite f64 values read back bit for bit only with serde_json's `float_roundtrip` feature
+//! enabled in Cargo.toml: the default parser is faster but can be one ulp off (about one value
+//! in ten in the millimetre range). `tests::round_trip_is_exact` checks that it is enabled.
+//!
+//! Non-finite floats have no JSON form: `serde_json` writes NaN and ±∞ as `null`, which does not
+//! read back as an f64. Values that may be non-finite belong in `Option<f64>` or in the CSV and
+//! EXR files.
+
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+use super::atomic::write_atomic;
+use super::DatasetError;
+
+/// Writes `value` as pretty-printed JSON (two-space indent, trailing newline) at `path`,
+/// atomically.
+pub fn write_json_pretty<T: Serialize + ?Sized>(
+    path: &Path,
+    value: &T,
+) -> Result<(), DatasetError> {
+    // Serialising to memory first means a serialisation error never leaves a temporary behind.
+    let mut encoded =
+        serde_json::to_vec_pretty(value).map_err(|source| DatasetError::JsonWrite {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    encoded.push(b'\n');
+    write_atomic(path, |w| w.write_all(&encoded))
+}
+
+/// Reads a JSON file into a `T`. Malformed JSON and JSON of another shape are reported with the
+/// path, line and column.
+pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, DatasetError> {
+    let bytes = std::fs::read(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    serde_json::from_slice(&bytes).map_err(|source| DatasetError::JsonRead {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    #[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+    struct Manifest {
+        name: String,
+        seed: u64,
+        exposure_s: f64,
+        poses: Vec<[f64; 3]>,
+        missing: Option<f64>,
+        counts: BTreeMap<String, u32>,
+    }
+
+    fn manifest() -> Manifest {
+        Manifest {
+            name: "pane \"A\" — λ = 658 nm".to_string(),
+            seed: u64::MAX,
+            exposure_s: 1.0 / 3.0,
+            // 90.08966719419209 and 365.87992443022756 read back one ulp off unless serde_json
+            // has its `float_roundtrip` feature (its default float parser is not exact).
+            poses: vec![
+                [0.1, -0.0, 5e-324],
+                [1e300, -2.5, std::f64::consts::PI],
+                [90.089_667_194_192_09, 365.879_924_430_227_56, -1e-75],
+            ],
+            missing: None,
+            counts: BTreeMap::from([("tir".to_string(), 3), ("direct".to_string(), 12)]),
+        }
+    }
+
+    #[test]
+    fn round_trip_is_exact() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("manifest.json");
+        let value = manifest();
+        write_json_pretty(&path, &value).unwrap();
+        let read: Manifest = read_json(&path).unwrap();
+        let bits = |m: &Manifest| {
+            let mut b = vec![m.exposure_s.to_bits()];
+            b.extend(m.poses.iter().flatten().map(|v| v.to_bits()));
+            b
+        };
+        assert_eq!(
+            bits(&read),
+            bits(&value),
+            "f64 values changed on the way through JSON: Cargo.toml must enable serde_json's \
+             `float_roundtrip` feature"
+        );
+        assert_eq!(read, value);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.starts_with("{\n  \"name\"") && text.ends_with("}\n"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn wrong_shape_names_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("manifest.json");
+        std::fs::write(&path, "{\n  \"name\": 3\n}\n").unwrap();
+        let err = read_json::<Manifest>(&path).unwrap_err();
+        assert!(matches!(err, DatasetError::JsonRead { .. }), "{err}");
+        let message = err.to_string();
+        assert!(
+            message.contains("manifest.json") && message.contains("line 2"),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn unserialisable_value_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.json");
+        // JSON object keys must be strings; a tuple key cannot be serialised.
+        let value = BTreeMap::from([((1, 2), 3)]);
+        let err = write_json_pretty(&path, &value).unwrap_err();
+        assert!(matches!(err, DatasetError::JsonWrite { .. }), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+}

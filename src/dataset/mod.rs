@@ -1,0 +1,28 @@
+//! Output files on disk. Each writer has a matching reader, used by the tests to prove that
+//! what is written reads back bit for bit (and by tools that post-process a dataset).
+//!
+//! - `png16`: sensor images in digital numbers (DN), 16-bit greyscale PNG.
+//! - `exr`: radiometric images (irradiance in W/m², one f32 layer per light-path class),
+//!   single-part scanline OpenEXR.
+//! - `profile_csv`: line profiles (column, sub-pixel row, x and z in mm, intensity in DN,
+//!   peak width in px, validity).
+//! - `json`: manifests and configurations.
+//! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
+//!
+//! Invariants:
+//! - Only `scene` (reading inputs) and `dataset` (writing outputs) touch the file system.
+//! - Every file is written atomically (temporary file in the same directory, `sync_all`,
+//!   `rename`): a reader sees the old file or the complete new one, never a torn file.
+//! - Images are row-major with row 0 at the top, in memory and in every file format.
+//! - Readers never convert: a file of another bit depth, sample type or header is an error.
+//! - Every error names the file, and the line and column where there is one.
+
+pub mod atomic;
+pub mod error;
+pub mod exr;
+pub mod json;
+pub mod output_dir;
+pub mod png16;
+pub mod profile_csv;
+
+pub use error::DatasetError;

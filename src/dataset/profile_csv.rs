@@ -1,0 +1,292 @@
+//! Line profiles as CSV, one point per line after the header
+//! `column,row,x_mm,z_mm,intensity,width,valid`.
+//!
+//! Floats are written with Rust's `Display`, which prints the shortest decimal that parses back
+//! to the same f64, so a written profile reads back bit for bit. Invalid points carry `NaN` in
+//! `row`, `x_mm` and `z_mm`, and `0` in `valid` (`1` for valid points).
+
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+use super::atomic::write_atomic;
+use super::DatasetError;
+use crate::sensor::profile::{Profile, ProfilePoint};
+
+/// The header line, which is also the column order.
+pub const HEADER: &str = "column,row,x_mm,z_mm,intensity,width,valid";
+
+/// The column names of [`HEADER`], for error messages.
+const COLUMNS: [&str; 7] = [
+    "column",
+    "row",
+    "x_mm",
+    "z_mm",
+    "intensity",
+    "width",
+    "valid",
+];
+
+/// Writes `profile` to `path` as CSV, atomically.
+pub fn write_profile_csv(path: &Path, profile: &Profile) -> Result<(), DatasetError> {
+    write_atomic(path, |w| {
+        writeln!(w, "{HEADER}")?;
+        for p in &profile.points {
+            writeln!(w, "{}", CsvLine(p))?;
+        }
+        Ok(())
+    })
+}
+
+/// One point formatted as a CSV line (without the newline).
+struct CsvLine<'a>(&'a ProfilePoint);
+
+impl fmt::Display for CsvLine<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let p = self.0;
+        if p.valid {
+            write!(
+                f,
+                "{},{},{},{},{},{},1",
+                p.column, p.row, p.x_mm, p.z_mm, p.intensity, p.width
+            )
+        } else {
+            // Whatever an invalid point's position fields hold, they mean "no measurement".
+            write!(f, "{},NaN,NaN,NaN,{},{},0", p.column, p.intensity, p.width)
+        }
+    }
+}
+
+/// Reads a profile written by [`write_profile_csv`]. The header must match [`HEADER`] exactly;
+/// a line with a missing field or a value that does not parse is reported with its file, line
+/// number and column name. `\r\n` line endings are accepted.
+pub fn read_profile_csv(path: &Path) -> Result<Profile, DatasetError> {
+    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or("");
+    if header != HEADER {
+        return Err(DatasetError::CsvHeader {
+            path: path.to_path_buf(),
+            expected: HEADER,
+            found: header.to_string(),
+        });
+    }
+    let mut points = Vec::new();
+    for (i, line) in lines.enumerate() {
+        // The header is line 1.
+        points.push(parse_line(path, i + 2, line)?);
+    }
+    Ok(Profile { points })
+}
+
+fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoint, DatasetError> {
+    let fields: Vec<&str> = line.split(',').collect();
+    let Ok(fields) = <[&str; COLUMNS.len()]>::try_from(fields.as_slice()) else {
+        return Err(DatasetError::CsvFieldCount {
+            path: path.to_path_buf(),
+            line: line_number,
+            expected: COLUMNS.len(),
+            found: fields.len(),
+        });
+    };
+    let error = |index: usize, expected: &'static str| DatasetError::CsvValue {
+        path: path.to_path_buf(),
+        line: line_number,
+        column: COLUMNS[index],
+        expected,
+        found: fields[index].to_string(),
+    };
+    let valid = match fields[6] {
+        "0" => false,
+        "1" => true,
+        _ => return Err(error(6, "0 or 1")),
+    };
+    Ok(ProfilePoint {
+        column: parse_field(&fields, 0, "a non-negative integer", &error)?,
+        row: parse_field(&fields, 1, "a number", &error)?,
+        x_mm: parse_field(&fields, 2, "a number", &error)?,
+        z_mm: parse_field(&fields, 3, "a number", &error)?,
+        intensity: parse_field(&fields, 4, "an integer from 0 to 65535", &error)?,
+        width: parse_field(&fields, 5, "an integer from 0 to 4294967295", &error)?,
+        valid,
+    })
+}
+
+/// Parses `fields[index]`, or reports what the column should have held.
+fn parse_field<T: FromStr>(
+    fields: &[&str],
+    index: usize,
+    expected: &'static str,
+    error: &impl Fn(usize, &'static str) -> DatasetError,
+) -> Result<T, DatasetError> {
+    fields[index].parse().map_err(|_| error(index, expected))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(column: usize, row: f64, x_mm: f64, z_mm: f64) -> ProfilePoint {
+        ProfilePoint {
+            column,
+            row,
+            x_mm,
+            z_mm,
+            intensity: 4095,
+            width: 3,
+            valid: true,
+        }
+    }
+
+    fn invalid(column: usize) -> ProfilePoint {
+        ProfilePoint {
+            column,
+            row: f64::NAN,
+            x_mm: f64::NAN,
+            z_mm: f64::NAN,
+            intensity: 0,
+            width: 0,
+            valid: false,
+        }
+    }
+
+    fn write_text(text: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("profile.csv");
+        std::fs::write(&path, text).unwrap();
+        (dir, path)
+    }
+
+    #[test]
+    fn round_trip_is_bit_exact() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("profile.csv");
+        let profile = Profile {
+            points: vec![
+                point(0, 0.1, 1.0 / 3.0, -0.0),
+                invalid(1),
+                point(2, 511.5, 5e-324, f64::MAX),
+                point(3, 123.456_789_012_345_68, -1e-300, 1e300),
+                ProfilePoint {
+                    intensity: u16::MAX,
+                    width: u32::MAX,
+                    ..point(usize::MAX, 0.0, 2.0_f64.sqrt(), std::f64::consts::PI)
+                },
+            ],
+        };
+        write_profile_csv(&path, &profile).unwrap();
+        let read = read_profile_csv(&path).unwrap();
+        assert_eq!(read.points.len(), profile.points.len());
+        for (a, b) in read.points.iter().zip(&profile.points) {
+            assert_eq!(
+                (a.column, a.intensity, a.width, a.valid),
+                (b.column, b.intensity, b.width, b.valid)
+            );
+            if b.valid {
+                let bits = |p: &ProfilePoint| [p.row, p.x_mm, p.z_mm].map(f64::to_bits);
+                assert_eq!(bits(a), bits(b));
+            } else {
+                assert!(a.row.is_nan() && a.x_mm.is_nan() && a.z_mm.is_nan());
+            }
+        }
+    }
+
+    #[test]
+    fn file_layout_is_header_then_one_line_per_point() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("profile.csv");
+        let profile = Profile {
+            points: vec![point(7, 10.5, -2.25, 100.0), invalid(8)],
+        };
+        write_profile_csv(&path, &profile).unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&path).unwrap(),
+            "column,row,x_mm,z_mm,intensity,width,valid\n\
+             7,10.5,-2.25,100,4095,3,1\n\
+             8,NaN,NaN,NaN,0,0,0\n"
+        );
+    }
+
+    #[test]
+    fn crlf_and_missing_final_newline_are_accepted() {
+        let (_dir, path) = write_text(&format!(
+            "{HEADER}\r\n1,2.5,3,4,5,6,1\r\n2,NaN,NaN,NaN,0,0,0"
+        ));
+        let read = read_profile_csv(&path).unwrap();
+        assert_eq!(read.points.len(), 2);
+        let expected = ProfilePoint {
+            intensity: 5,
+            width: 6,
+            ..point(1, 2.5, 3.0, 4.0)
+        };
+        assert_eq!(read.points[0], expected);
+        assert!(!read.points[1].valid);
+    }
+
+    #[test]
+    fn truncated_line_reports_file_and_line() {
+        let (_dir, path) = write_text(&format!("{HEADER}\n0,1.5,2,3,100,4,1\n1,2.5,3"));
+        let err = read_profile_csv(&path).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                DatasetError::CsvFieldCount {
+                    line: 3,
+                    expected: 7,
+                    found: 3,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(err.to_string().contains("profile.csv:3:"), "{err}");
+    }
+
+    #[test]
+    fn bad_number_reports_file_line_and_column() {
+        let (_dir, path) = write_text(&format!(
+            "{HEADER}\n0,1.5,2,3,100,4,1\n1,2.5,3,abc,100,4,1\n"
+        ));
+        let message = read_profile_csv(&path).unwrap_err().to_string();
+        assert!(
+            message.ends_with("profile.csv:3: column z_mm: expected a number, got \"abc\""),
+            "{message}"
+        );
+    }
+
+    #[test]
+    fn out_of_range_and_bad_flags_are_refused() {
+        for (line, column) in [
+            ("0,1,2,3,70000,4,1", "intensity"),
+            ("-1,1,2,3,7,4,1", "column"),
+            ("0,1,2,3,7,4,2", "valid"),
+            ("0,1,2,3,7,4,true", "valid"),
+            ("0,1,2,3,7,,1", "width"),
+        ] {
+            let (_dir, path) = write_text(&format!("{HEADER}\n{line}\n"));
+            let err = read_profile_csv(&path).unwrap_err();
+            assert!(
+                err.to_string()
+                    .contains(&format!("profile.csv:2: column {column}: expected")),
+                "{line}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn wrong_or_missing_header_is_refused() {
+        for text in [
+            "",
+            "column,row,x,z,intensity,width,valid\n",
+            "0,1,2,3,7,4,1\n",
+        ] {
+            let (_dir, path) = write_text(text);
+            let err = read_profile_csv(&path).unwrap_err();
+            assert!(matches!(err, DatasetError::CsvHeader { .. }), "{err}");
+            assert!(
+                err.to_string().contains("profile.csv:1: expected header"),
+                "{err}"
+            );
+        }
+    }
+}

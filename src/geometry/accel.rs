@@ -1,0 +1,310 @@
+//! Ray queries against the whole scene: the only module that names obvhs.
+//!
+//! Triangles are handed to obvhs in f32, in the base frame, and reordered once into the BVH's
+//! primitive order so the hot loop indexes them directly. obvhs returns only the hit distance;
+//! barycentrics come from `RtTriangle::compute_barycentric`, which is correct in obvhs 0.4.0
+//! (p = (1−u−v)·v0 + u·v1 + v·v2), unlike `Triangle::compute_barycentric` (PITFALLS.md).
+
+use std::time::Duration;
+
+use glam::Vec3A;
+use nalgebra::{Point3, Vector3};
+use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ray::{Ray, RayHit};
+use obvhs::rt_triangle::RtTriangle;
+use obvhs::triangle::Triangle;
+use obvhs::BvhBuildParams;
+
+use super::mesh::SurfacePart;
+
+/// One triangle of the scene in the base frame, with what it belongs to.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneTriangle {
+    /// Vertices (m), counter-clockwise seen from outside.
+    pub vertices: [Point3<f64>; 3],
+    /// Smooth vertex normals (unit), or `None` to shade with the geometric normal.
+    pub normals: Option<[Vector3<f64>; 3]>,
+    /// Index of the object in the world.
+    pub object: u32,
+    /// Index of the material in the world.
+    pub material: u32,
+    /// Which part of the object.
+    pub part: SurfacePart,
+}
+
+/// A ray–scene intersection.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    /// Distance along the (unit) ray direction (m).
+    pub t: f64,
+    /// Hit point (m).
+    pub point: Point3<f64>,
+    /// Geometric normal of the triangle, outward (unit).
+    pub geometric_normal: Vector3<f64>,
+    /// Interpolated shading normal, outward (unit); equals the geometric normal for flat meshes.
+    pub shading_normal: Vector3<f64>,
+    /// Barycentric coordinates (u, v) with p = (1−u−v)·v0 + u·v1 + v·v2.
+    pub barycentric: [f64; 2],
+    /// The triangle's object index.
+    pub object: u32,
+    /// The triangle's material index.
+    pub material: u32,
+    /// The triangle's surface part.
+    pub part: SurfacePart,
+    /// Index of the triangle in the input slice given to [`SceneAccel::build`].
+    pub triangle: u32,
+}
+
+/// A compressed-wide BVH over the scene's triangles.
+pub struct SceneAccel {
+    bvh: CwBvh,
+    /// Triangles in BVH primitive order.
+    rt: Vec<RtTriangle>,
+    /// Index into `input` for each entry of `rt`.
+    source: Vec<u32>,
+    input: Vec<SceneTriangle>,
+}
+
+fn to_vec3a(p: &Point3<f64>) -> Vec3A {
+    Vec3A::new(p.x as f32, p.y as f32, p.z as f32)
+}
+
+fn to_ray(origin: &Point3<f64>, dir: &Vector3<f64>, t_min: f64, t_max: f64) -> Ray {
+    Ray::new(
+        to_vec3a(origin),
+        Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
+        t_min as f32,
+        t_max as f32,
+    )
+}
+
+impl SceneAccel {
+    /// Builds the BVH (obvhs CWBVH, `medium_build` preset). Panics on an empty slice: the scene
+    /// loader refuses empty scenes.
+    pub fn build(triangles: Vec<SceneTriangle>) -> SceneAccel {
+        assert!(
+            !triangles.is_empty(),
+            "cannot build a BVH over no triangles"
+        );
+        let tris: Vec<Triangle> = triangles
+            .iter()
+            .map(|t| Triangle {
+                v0: to_vec3a(&t.vertices[0]),
+                v1: to_vec3a(&t.vertices[1]),
+                v2: to_vec3a(&t.vertices[2]),
+            })
+            .collect();
+        let mut build_time = Duration::ZERO;
+        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut build_time);
+        let source: Vec<u32> = bvh.primitive_indices.clone();
+        let rt = source
+            .iter()
+            .map(|&i| RtTriangle::from(&tris[i as usize]))
+            .collect();
+        SceneAccel {
+            bvh,
+            rt,
+            source,
+            input: triangles,
+        }
+    }
+
+    /// Number of input triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.input.len()
+    }
+
+    /// The input triangle `i`.
+    pub fn triangle(&self, i: u32) -> &SceneTriangle {
+        &self.input[i as usize]
+    }
+
+    /// The closest hit along `origin + t·dir` with t in [t_min, t_max]; `dir` must be unit length.
+    pub fn closest_hit(
+        &self,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
+        let ray = to_ray(origin, dir, t_min, t_max);
+        let mut hit = RayHit::none();
+        if !self
+            .bvh
+            .ray_traverse(ray, &mut hit, |r, id| self.rt[id].intersect(r))
+        {
+            return None;
+        }
+        let id = hit.primitive_id as usize;
+        let bary = self.rt[id].compute_barycentric(&ray);
+        Some(self.make_hit(self.source[id], hit.t as f64, origin, dir, bary.x, bary.y))
+    }
+
+    /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max] (`dir` unit length).
+    pub fn occluded(
+        &self,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        t_min: f64,
+        t_max: f64,
+    ) -> bool {
+        let ray = to_ray(origin, dir, t_min, t_max);
+        !self
+            .bvh
+            .ray_traverse_miss(ray, |r, id| self.rt[id].intersect(r))
+    }
+
+    /// Reference closest hit by testing every triangle (for tests and debugging).
+    pub fn closest_hit_brute_force(
+        &self,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
+        let ray = to_ray(origin, dir, t_min, t_max);
+        let mut best: Option<(usize, f32)> = None;
+        for (i, t) in self.input.iter().enumerate() {
+            let rt = RtTriangle::new(
+                to_vec3a(&t.vertices[0]),
+                to_vec3a(&t.vertices[1]),
+                to_vec3a(&t.vertices[2]),
+            );
+            let d = rt.intersect(&ray);
+            if d.is_finite() && best.is_none_or(|(_, b)| d < b) {
+                best = Some((i, d));
+            }
+        }
+        best.map(|(i, d)| {
+            let t = &self.input[i];
+            let rt = RtTriangle::new(
+                to_vec3a(&t.vertices[0]),
+                to_vec3a(&t.vertices[1]),
+                to_vec3a(&t.vertices[2]),
+            );
+            let b = rt.compute_barycentric(&ray);
+            self.make_hit(i as u32, d as f64, origin, dir, b.x, b.y)
+        })
+    }
+
+    fn make_hit(
+        &self,
+        tri: u32,
+        t: f64,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        u: f32,
+        v: f32,
+    ) -> Hit {
+        let st = &self.input[tri as usize];
+        let [a, b, c] = st.vertices;
+        let geometric_normal = (b - a).cross(&(c - a)).normalize();
+        let (u, v) = (u as f64, v as f64);
+        let shading_normal = match &st.normals {
+            Some([na, nb, nc]) => {
+                let n = na * (1.0 - u - v) + nb * u + nc * v;
+                n.try_normalize(1e-12).unwrap_or(geometric_normal)
+            }
+            None => geometric_normal,
+        };
+        Hit {
+            t,
+            point: origin + dir * t,
+            geometric_normal,
+            shading_normal,
+            barycentric: [u, v],
+            object: st.object,
+            material: st.material,
+            part: st.part,
+            triangle: tri,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(a: [f64; 3], b: [f64; 3], c: [f64; 3], object: u32) -> SceneTriangle {
+        SceneTriangle {
+            vertices: [a.into(), b.into(), c.into()],
+            normals: None,
+            object,
+            material: 0,
+            part: SurfacePart::Solid,
+        }
+    }
+
+    /// A deterministic cloud of small random triangles (hash-based, no RNG crate).
+    fn cloud(n: usize) -> Vec<SceneTriangle> {
+        let h = |k: u64| {
+            let mut x = k.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0xD1B5_4A32_D192_ED03;
+            x ^= x >> 31;
+            x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            x ^= x >> 29;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..n)
+            .map(|i| {
+                let k = i as u64 * 16;
+                let c = [h(k) - 0.5, h(k + 1) - 0.5, h(k + 2) - 0.5];
+                let p = |j: u64| {
+                    [
+                        c[0] + 0.05 * (h(k + j) - 0.5),
+                        c[1] + 0.05 * (h(k + j + 1) - 0.5),
+                        c[2] + 0.05 * (h(k + j + 2) - 0.5),
+                    ]
+                };
+                tri(p(3), p(6), p(9), i as u32)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn bvh_matches_brute_force() {
+        let accel = SceneAccel::build(cloud(2000));
+        let mut hits = 0;
+        for i in 0..2000 {
+            let a = i as f64 * 0.618_033_988_75;
+            let b = i as f64 * 0.754_877_666_25;
+            let dir = Vector3::new(a.sin() * b.cos(), a.sin() * b.sin(), a.cos()).normalize();
+            let origin = Point3::new(0.01 * (i % 7) as f64, -0.02, 0.003 * (i % 5) as f64);
+            let fast = accel.closest_hit(&origin, &dir, 0.0, 10.0);
+            let slow = accel.closest_hit_brute_force(&origin, &dir, 0.0, 10.0);
+            match (fast, slow) {
+                (Some(f), Some(s)) => {
+                    hits += 1;
+                    assert!((f.t - s.t).abs() < 1e-6, "ray {i}: {} vs {}", f.t, s.t);
+                    assert!((f.point - s.point).norm() < 1e-6);
+                }
+                (None, None) => {}
+                (f, s) => panic!("ray {i}: bvh {f:?} vs brute force {s:?}"),
+            }
+            assert_eq!(
+                accel.occluded(&origin, &dir, 0.0, 10.0),
+                accel
+                    .closest_hit_brute_force(&origin, &dir, 0.0, 10.0)
+                    .is_some()
+            );
+        }
+        assert!(
+            hits > 100,
+            "only {hits} hits: the test does not exercise the BVH"
+        );
+    }
+
+    #[test]
+    fn barycentrics_reconstruct_the_hit_point() {
+        let accel = SceneAccel::build(vec![tri([0., 0., 1.], [1., 0., 1.], [0., 1., 1.], 0)]);
+        let o = Point3::new(0.2, 0.3, 0.0);
+        let h = accel.closest_hit(&o, &Vector3::z(), 0.0, 5.0).unwrap();
+        assert!((h.t - 1.0).abs() < 1e-6);
+        let [u, v] = h.barycentric;
+        assert!(
+            (u - 0.2).abs() < 1e-6 && (v - 0.3).abs() < 1e-6,
+            "u {u} v {v}"
+        );
+        assert!((h.geometric_normal - Vector3::z()).norm() < 1e-12);
+    }
+}

@@ -1,0 +1,474 @@
+//! Whole-panel checks: closed watertight meshes, enclosed volume against the analytic value,
+//! outward normals, the border curve's length and frames, and parameter errors.
+
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+use nalgebra::{Point3, Vector3};
+
+use super::*;
+
+const T: f64 = 0.004;
+const S: f64 = 0.005;
+
+fn rect(w: f64, h: f64, r: f64) -> Outline {
+    Outline::Rectangle {
+        width_m: w,
+        height_m: h,
+        corner_radius_m: r,
+    }
+}
+
+/// An L-shape (concave), given clockwise to exercise the normalisation.
+fn l_shape(r: f64) -> Outline {
+    let ccw = [
+        [-0.2, -0.15],
+        [0.2, -0.15],
+        [0.2, 0.0],
+        [0.0, 0.0],
+        [0.0, 0.15],
+        [-0.2, 0.15],
+    ];
+    Outline::Polygon {
+        vertices_m: ccw.iter().rev().copied().collect(),
+        corner_radius_m: r,
+    }
+}
+
+fn spec(outline: Outline, edge: EdgeProfile, curvature: Curvature) -> PanelSpec {
+    PanelSpec {
+        outline,
+        thickness_m: T,
+        curvature,
+        edge,
+        tessellation_m: S,
+    }
+}
+
+fn build(outline: Outline, edge: EdgeProfile, curvature: Curvature) -> Panel {
+    build_panel(&spec(outline, edge, curvature)).unwrap()
+}
+
+/// Welds vertices with bit-identical positions and counts the uses of each undirected edge.
+fn edge_uses(mesh: &Mesh) -> HashMap<(usize, usize), usize> {
+    let mut weld: HashMap<[u64; 3], usize> = HashMap::new();
+    let ids: Vec<usize> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            let key = [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits());
+            let next = weld.len();
+            *weld.entry(key).or_insert(next)
+        })
+        .collect();
+    let mut uses = HashMap::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (ids[t[k] as usize], ids[t[(k + 1) % 3] as usize]);
+            assert_ne!(a, b, "degenerate triangle {t:?}");
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    uses
+}
+
+/// Enclosed volume by the divergence theorem, Σ p0 · (p1 × p2) / 6.
+fn volume(mesh: &Mesh) -> f64 {
+    let p = |k: u32| mesh.positions[k as usize].coords;
+    mesh.triangles
+        .iter()
+        .map(|t| p(t[0]).dot(&p(t[1]).cross(&p(t[2]))) / 6.0)
+        .sum()
+}
+
+/// Mesh invariants every panel must satisfy.
+fn check_closed_mesh(panel: &Panel) {
+    let mesh = &panel.mesh;
+    mesh.check().unwrap();
+    let uses = edge_uses(mesh);
+    let bad: Vec<_> = uses.iter().filter(|(_, &n)| n != 2).take(5).collect();
+    assert!(
+        bad.is_empty(),
+        "{} edges not shared by two triangles, e.g. {bad:?}",
+        uses.values().filter(|&&n| n != 2).count()
+    );
+    let normals = mesh.normals.as_ref().unwrap();
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        let g = mesh.face_normal(i);
+        for &k in t {
+            let n = normals[k as usize];
+            assert!((n.norm() - 1.0).abs() < 1e-12);
+            assert!(
+                g.dot(&n) > 0.0,
+                "triangle {i} ({:?}) normal {g} vs vertex normal {n}",
+                mesh.parts[i]
+            );
+        }
+    }
+    for part in [
+        SurfacePart::TopFace,
+        SurfacePart::BottomFace,
+        SurfacePart::Edge,
+    ] {
+        assert!(mesh.parts.contains(&part));
+    }
+}
+
+/// Edge profiles with the cross-section area each removes from the square edge: an arris two
+/// b²/2 triangles, a pencil edge a t/2 × t rectangle less a half disc of radius t/2. Times the
+/// outline length, that is the volume removed (Pappus, to first order in the corner curvature).
+fn profiles() -> [(EdgeProfile, f64); 3] {
+    let b = 0.001;
+    [
+        (EdgeProfile::FlatGround, 0.0),
+        (EdgeProfile::Arrissed { bevel_m: b }, b * b),
+        (
+            EdgeProfile::Pencil,
+            (2.0 - PI / 2.0) * (T / 2.0) * (T / 2.0),
+        ),
+    ]
+}
+
+fn rounded_rect_area(w: f64, h: f64, r: f64) -> f64 {
+    w * h - (4.0 - PI) * r * r
+}
+
+#[test]
+fn flat_rectangle_is_closed_with_exact_volume() {
+    let panel = build(
+        rect(0.55, 0.42, 0.0),
+        EdgeProfile::FlatGround,
+        Curvature::Flat,
+    );
+    check_closed_mesh(&panel);
+    assert!((volume(&panel.mesh) / (0.55 * 0.42 * T) - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn flat_rounded_rectangle_has_the_analytic_volume() {
+    let panel = build(
+        rect(0.55, 0.42, 0.03),
+        EdgeProfile::FlatGround,
+        Curvature::Flat,
+    );
+    check_closed_mesh(&panel);
+    let expected = rounded_rect_area(0.55, 0.42, 0.03) * T;
+    assert!((volume(&panel.mesh) / expected - 1.0).abs() < 5e-3);
+}
+
+#[test]
+fn stadium_with_full_half_circle_ends_is_closed() {
+    let panel = build(rect(0.3, 0.1, 0.05), EdgeProfile::Pencil, Curvature::Flat);
+    check_closed_mesh(&panel);
+}
+
+#[test]
+fn concave_l_shape_is_closed_sharp_and_rounded() {
+    let area = 0.4 * 0.3 - 0.2 * 0.15;
+    for r in [0.0, 0.01] {
+        // Rounding removes (1 − π/4)r² at each of 5 convex corners and adds it at the concave
+        // one; it shortens the outline by (2 − π/2)r at each of the 6.
+        let area = area - 4.0 * (1.0 - PI / 4.0) * r * r;
+        let perimeter = 1.4 - 6.0 * (2.0 - PI / 2.0) * r;
+        for (edge, removed) in profiles() {
+            let panel = build(l_shape(r), edge, Curvature::Flat);
+            check_closed_mesh(&panel);
+            let expected = area * T - removed * perimeter;
+            assert!(
+                (volume(&panel.mesh) / expected - 1.0).abs() < 1e-3,
+                "r {r}, {edge:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn arrissed_and_pencil_edges_remove_their_profile_volume() {
+    let (w, h, r) = (0.55, 0.42, 0.02);
+    let (area, perimeter) = (
+        rounded_rect_area(w, h, r),
+        2.0 * (w + h) - (8.0 - 2.0 * PI) * r,
+    );
+    for (edge, removed) in profiles() {
+        let panel = build(rect(w, h, r), edge, Curvature::Flat);
+        check_closed_mesh(&panel);
+        let v = volume(&panel.mesh);
+        assert!((v / (area * T) - 1.0).abs() < 5e-3, "{edge:?}");
+        assert!(
+            (v / (area * T - removed * perimeter) - 1.0).abs() < 1e-4,
+            "{edge:?}"
+        );
+    }
+}
+
+#[test]
+fn curved_panel_is_closed_with_top_face_on_its_cylinder() {
+    let radius = 1.5;
+    let bend = Curvature::Cylindrical { radius_m: radius };
+    for edge in [
+        EdgeProfile::FlatGround,
+        EdgeProfile::Arrissed { bevel_m: 0.001 },
+        EdgeProfile::Pencil,
+    ] {
+        let panel = build(rect(0.55, 0.42, 0.02), edge, bend);
+        check_closed_mesh(&panel);
+        let mesh = &panel.mesh;
+        for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
+            if *part == SurfacePart::TopFace {
+                for &k in t {
+                    let p = mesh.positions[k as usize];
+                    assert!(
+                        ((p.x * p.x + (p.z + radius).powi(2)).sqrt() - (radius + T)).abs() < 1e-12
+                    );
+                }
+            }
+        }
+        // The bend stretches height h by (R + h)/R: volume = A·(t + t²/(2R)) for a flat edge.
+        if edge == EdgeProfile::FlatGround {
+            let expected = rounded_rect_area(0.55, 0.42, 0.02) * (T + T * T / (2.0 * radius));
+            assert!((volume(mesh) / expected - 1.0).abs() < 1e-4);
+        }
+    }
+}
+
+#[test]
+fn curved_l_shape_is_closed() {
+    let bend = Curvature::Cylindrical { radius_m: 0.3 };
+    check_closed_mesh(&build(l_shape(0.01), EdgeProfile::Pencil, bend));
+    check_closed_mesh(&build(
+        l_shape(0.0),
+        EdgeProfile::Arrissed { bevel_m: 0.0015 },
+        bend,
+    ));
+}
+
+#[test]
+fn outlines_on_grid_lines_and_through_grid_corners_are_closed() {
+    // Edges at ±55.5 cells lie on the first grid's lines; the hypotenuse y = x runs through its
+    // corners; a panel smaller than one cell has no interior corner at all.
+    let diagonal = Outline::Polygon {
+        vertices_m: vec![[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1]],
+        corner_radius_m: 0.0,
+    };
+    let outlines = [rect(0.555, 0.425, 0.0), diagonal, rect(0.003, 0.002, 0.0)];
+    for outline in outlines {
+        check_closed_mesh(&build(
+            outline.clone(),
+            EdgeProfile::FlatGround,
+            Curvature::Flat,
+        ));
+        let bend = Curvature::Cylindrical { radius_m: 1.0 };
+        check_closed_mesh(&build(outline, EdgeProfile::FlatGround, bend));
+    }
+}
+
+#[test]
+fn face_triangles_span_at_most_one_cell() {
+    let panel = build(rect(0.55, 0.42, 0.02), EdgeProfile::Pencil, Curvature::Flat);
+    let mesh = &panel.mesh;
+    for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
+        if *part != SurfacePart::Edge {
+            let xs = t.map(|k| mesh.positions[k as usize].x);
+            let span = xs.iter().fold(f64::MIN, |a, &b| a.max(b))
+                - xs.iter().fold(f64::MAX, |a, &b| a.min(b));
+            assert!(span <= S * (1.0 + 1e-12));
+        }
+    }
+}
+
+fn check_border_frames(border: &BorderCurve) {
+    let n = border.vertices.len();
+    for (i, v) in border.vertices.iter().enumerate() {
+        for (a, b) in [
+            (v.tangent, v.surface_normal),
+            (v.tangent, v.outward),
+            (v.outward, v.surface_normal),
+        ] {
+            assert!(a.dot(&b).abs() < 1e-12);
+        }
+        for d in [v.tangent, v.surface_normal, v.outward] {
+            assert!((d.norm() - 1.0).abs() < 1e-12);
+        }
+        // Counter-clockwise: the tangent follows the vertex order.
+        let step = border.vertices[(i + 1) % n].position - v.position;
+        assert!(step.dot(&v.tangent) > 0.0);
+    }
+}
+
+#[test]
+fn border_curve_is_the_inset_outline_at_the_top_face() {
+    let (w, h, r, b) = (0.55, 0.42, 0.02, 0.001);
+    let panel = build(
+        rect(w, h, r),
+        EdgeProfile::Arrissed { bevel_m: b },
+        Curvature::Flat,
+    );
+    let border = &panel.border;
+    let (wi, hi, ri) = (w - 2.0 * b, h - 2.0 * b, r - b);
+    let expected = 2.0 * (wi + hi) - (8.0 - 2.0 * PI) * ri;
+    // 10° chords shorten the arcs by about 1.3e-3 of their length.
+    assert!(
+        (border.length() / expected - 1.0).abs() < 1e-4,
+        "{} vs {expected}",
+        border.length()
+    );
+    check_border_frames(border);
+    for v in &border.vertices {
+        assert_eq!(v.position.z, T);
+        assert_eq!(v.surface_normal, Vector3::z());
+        assert!(
+            v.outward.dot(&v.position.coords) > 0.0,
+            "centroid is the origin"
+        );
+    }
+}
+
+#[test]
+fn border_curve_follows_the_bend() {
+    let radius = 1.5;
+    let panel = build(
+        rect(0.55, 0.42, 0.02),
+        EdgeProfile::Pencil,
+        Curvature::Cylindrical { radius_m: radius },
+    );
+    check_border_frames(&panel.border);
+    let axis = Point3::new(0.0, 0.0, -radius);
+    for v in &panel.border.vertices {
+        let radial = Vector3::new(v.position.x - axis.x, 0.0, v.position.z - axis.z);
+        assert!((radial.norm() - (radius + T)).abs() < 1e-12);
+        assert!((radial.normalize() - v.surface_normal).norm() < 1e-12);
+        // Outward points away from the panel's middle, within the top face's tangent plane.
+        let from_centre = v.position - Point3::new(0.0, 0.0, T);
+        assert!(v.outward.dot(&from_centre) > 0.0);
+    }
+    // The top face is inset by t/2 and bent at radius R + t: its x extent stretches by (R + t)/R.
+    let (wi, hi, ri) = (0.55 - T, 0.42 - T, 0.02 - T / 2.0);
+    let straight_y = 2.0 * (hi - 2.0 * ri);
+    let straight_x = 2.0 * (wi - 2.0 * ri) * (radius + T) / radius;
+    let length = panel.border.length();
+    assert!(
+        length > straight_x + straight_y && length < straight_x + straight_y + 2.0 * PI * ri * 1.01
+    );
+}
+
+#[test]
+fn default_side_window_stays_small_and_deterministic() {
+    let s = spec(
+        rect(0.55, 0.42, 0.02),
+        EdgeProfile::Pencil,
+        Curvature::Cylindrical { radius_m: 1.5 },
+    );
+    let a = build_panel(&s).unwrap();
+    assert!(
+        a.mesh.triangle_count() < 100_000,
+        "{} triangles",
+        a.mesh.triangle_count()
+    );
+    let b = build_panel(&s).unwrap();
+    assert_eq!(a.mesh.positions, b.mesh.positions);
+    assert_eq!(a.mesh.triangles, b.mesh.triangles);
+}
+
+fn field_of(s: PanelSpec) -> &'static str {
+    match build_panel(&s) {
+        Err(PanelError::InvalidParameter { field, .. }) => field,
+        Ok(_) => "built",
+    }
+}
+
+#[test]
+fn bad_parameters_name_their_scene_field() {
+    let flat = EdgeProfile::FlatGround;
+    let base = spec(rect(0.55, 0.42, 0.02), flat, Curvature::Flat);
+    let with = |f: &dyn Fn(&mut PanelSpec)| {
+        let mut s = base.clone();
+        f(&mut s);
+        field_of(s)
+    };
+    assert_eq!(with(&|s| s.thickness_m = -0.004), "thickness_mm");
+    assert_eq!(with(&|s| s.thickness_m = f64::NAN), "thickness_mm");
+    assert_eq!(with(&|s| s.tessellation_m = 0.0), "tessellation_mm");
+    assert_eq!(with(&|s| s.tessellation_m = 1e-6), "tessellation_mm");
+    assert_eq!(with(&|s| s.outline = rect(0.0, 0.42, 0.0)), "width_mm");
+    assert_eq!(
+        with(&|s| s.outline = rect(0.55, f64::INFINITY, 0.0)),
+        "height_mm"
+    );
+    assert_eq!(
+        with(&|s| s.outline = rect(0.55, 0.42, 0.22)),
+        "corner_radius_mm"
+    );
+    assert_eq!(
+        with(&|s| s.outline = rect(0.55, 0.42, -0.01)),
+        "corner_radius_mm"
+    );
+    assert_eq!(
+        with(&|s| s.curvature = Curvature::Cylindrical { radius_m: -1.5 }),
+        "radius_mm"
+    );
+    // Half-width 0.275 m needs R > 0.175 m.
+    assert_eq!(
+        with(&|s| s.curvature = Curvature::Cylindrical { radius_m: 0.17 }),
+        "radius_mm"
+    );
+    assert_eq!(
+        with(&|s| s.curvature = Curvature::Cylindrical { radius_m: 0.18 }),
+        "built"
+    );
+    assert_eq!(
+        with(&|s| s.edge = EdgeProfile::Arrissed { bevel_m: 0.002 }),
+        "bevel_mm"
+    );
+    let polygon = |v: &[[f64; 2]], r: f64| Outline::Polygon {
+        vertices_m: v.to_vec(),
+        corner_radius_m: r,
+    };
+    assert_eq!(
+        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0]], 0.0)),
+        "vertices_mm"
+    );
+    assert_eq!(
+        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.2, 0.0]], 0.0)),
+        "vertices_mm"
+    );
+    let bow_tie = [[0.0, 0.0], [0.1, 0.1], [0.1, 0.0], [0.0, 0.1]];
+    assert_eq!(with(&|s| s.outline = polygon(&bow_tie, 0.0)), "vertices_mm");
+    assert_eq!(
+        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, f64::NAN], [0.0, 0.1]], 0.0)),
+        "vertices_mm"
+    );
+    assert_eq!(
+        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.0, 0.1]], 0.05)),
+        "corner_radius_mm"
+    );
+    // A pencil edge insets the faces by t/2 = 2 mm: a 1 mm corner radius cannot carry it, nor
+    // can a sliver 3 mm wide with sharp acute ends.
+    let pencil = |s: &mut PanelSpec| s.edge = EdgeProfile::Pencil;
+    assert_eq!(
+        with(&|s| {
+            pencil(s);
+            s.outline = rect(0.55, 0.42, 0.001)
+        }),
+        "corner_radius_mm"
+    );
+    let sliver = [[0.0, 0.0], [0.2, 0.0], [0.2, 0.003]];
+    assert_eq!(
+        with(&|s| {
+            pencil(s);
+            s.outline = polygon(&sliver, 0.0)
+        }),
+        "thickness_mm"
+    );
+}
+
+#[test]
+fn error_message_says_expected_and_got() {
+    let mut s = spec(
+        rect(0.55, 0.42, 0.0),
+        EdgeProfile::FlatGround,
+        Curvature::Flat,
+    );
+    s.thickness_m = -0.004;
+    let err = build_panel(&s).unwrap_err();
+    assert_eq!(err.to_string(), "thickness_mm must be > 0, got -0.004 m");
+}

@@ -1,0 +1,64 @@
+//! Rigid transforms (SE(3)) in f64.
+//!
+//! `Pose` maps points of a child frame into its parent frame: `T_BM * p_M = p_B`.
+//! Scene files give translations in millimetres and rotations in degrees as fixed-axis
+//! x-then-y-then-z angles, i.e. R = Rz(rz)·Ry(ry)·Rx(rx) (nalgebra `from_euler_angles`).
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+/// A rigid transform from a child frame to its parent frame (metres).
+pub type Pose = Isometry3<f64>;
+
+/// Builds a pose from a translation in millimetres and fixed-axis x, y, z rotations in degrees
+/// (R = Rz·Ry·Rx).
+pub fn pose_from_mm_deg(translation_mm: [f64; 3], rotation_deg: [f64; 3]) -> Pose {
+    let t = Vector3::from(translation_mm) * 1e-3;
+    let r = UnitQuaternion::from_euler_angles(
+        rotation_deg[0].to_radians(),
+        rotation_deg[1].to_radians(),
+        rotation_deg[2].to_radians(),
+    );
+    Isometry3::from_parts(Translation3::from(t), r)
+}
+
+/// Splits a pose into a translation in millimetres and fixed-axis x, y, z angles in degrees;
+/// the inverse of [`pose_from_mm_deg`] (angles in (−180°, 180°], ry in [−90°, 90°]).
+pub fn pose_to_mm_deg(pose: &Pose) -> ([f64; 3], [f64; 3]) {
+    let t = pose.translation.vector * 1e3;
+    let (rx, ry, rz) = pose.rotation.euler_angles();
+    (
+        [t.x, t.y, t.z],
+        [rx.to_degrees(), ry.to_degrees(), rz.to_degrees()],
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Point3;
+
+    #[test]
+    fn mm_deg_round_trip() {
+        let p = pose_from_mm_deg([10.0, -20.0, 30.0], [5.0, -12.0, 170.0]);
+        let (t, r) = pose_to_mm_deg(&p);
+        let q = pose_from_mm_deg(t, r);
+        let x = Point3::new(0.3, -0.1, 0.2);
+        assert!((p * x - q * x).norm() < 1e-12);
+        assert!((t[0] - 10.0).abs() < 1e-9 && (r[2] - 170.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn pose_times_inverse_is_identity() {
+        let p = pose_from_mm_deg([1.0, 2.0, 3.0], [30.0, 40.0, 50.0]);
+        let x = Point3::new(0.5, 0.25, -0.75);
+        assert!(((p * p.inverse()) * x - x).norm() < 1e-14);
+    }
+
+    #[test]
+    fn rotation_order_is_z_after_y_after_x() {
+        // Rx(90°) maps y to z; then Rz(90°) leaves z alone: y → z.
+        let p = pose_from_mm_deg([0.0; 3], [90.0, 0.0, 90.0]);
+        let v = p.rotation * Vector3::y();
+        assert!((v - Vector3::z()).norm() < 1e-12);
+    }
+}

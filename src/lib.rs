@@ -1,0 +1,17 @@
+//! glassscan: a physically based simulator of a laser-line triangulation sensor
+//! (scanCONTROL 2600-100 class, 658 nm) looking at glass, plus the localisation
+//! pipeline of Adrian & Pham, "Locating Transparent Objects to Millimetre Accuracy".
+//!
+//! Data flows one way: `scene` → `geometry` → `transport` → `sensor` → `scan` → `cli`.
+//! See ARCHITECTURE.md for the code map and the invariants.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod dataset;
+pub mod geometry;
+pub mod optics;
+pub mod scan;
+pub mod scene;
+pub mod sensor;
+pub mod transport;

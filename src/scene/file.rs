@@ -1,0 +1,233 @@
+//! The scene file as written: serde structs that mirror the TOML one to one, in the file's
+//! named units (`_mm`, `_deg`, `_ms`, `_nm`, `_mw`, `_um`). `scenes/README.md` is the
+//! reference for every field; `load` validates these values and converts them to SI.
+//!
+//! Every struct denies unknown keys (a typo is an error, as in Mitsuba), and every value that
+//! is validated later is `Spanned`, so that an error can point at its line and column.
+//! Integers are read as `i64` so that a negative count gets a range message rather than a
+//! type error. Tagged variants use TOML's native enum forms (`"pencil"` or
+//! `{ arrissed = { bevel_mm = 0.5 } }`): serde's internally tagged and untagged enums buffer
+//! their input and would lose the spans.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use serde_spanned::Spanned;
+
+/// A number with its place in the file.
+pub(crate) type Num = Spanned<f64>;
+/// An integer with its place in the file.
+pub(crate) type Int = Spanned<i64>;
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SceneFile {
+    /// Named materials.
+    #[serde(default)]
+    pub materials: BTreeMap<Spanned<String>, Spanned<MaterialDef>>,
+    /// The objects, in file order.
+    #[serde(default)]
+    pub objects: Vec<Spanned<ObjectDef>>,
+    /// The scanned object, if any.
+    pub target: Option<Spanned<TargetDef>>,
+    /// The sensor head.
+    pub sensor: Spanned<SensorDef>,
+    /// Hand-eye mount T_FS; identity when absent.
+    pub mount: Option<Spanned<PoseDef>>,
+    /// Scan settings; defaults when absent.
+    pub scan: Option<Spanned<ScanDef>>,
+}
+
+/// The kinds of material.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum MaterialKind {
+    Lambertian,
+    Glass,
+}
+
+/// One material. The fields that belong to the other kind must be absent; `load` checks it.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MaterialDef {
+    pub kind: Spanned<MaterialKind>,
+    /// Lambertian: hemispherical reflectance in [0, 1].
+    pub albedo: Option<Num>,
+    /// Glass: refractive index at the laser wavelength.
+    pub ior: Option<Num>,
+    /// Glass: Cauchy coefficients [A, B, C, …], n(λ) = A + B/λ² + C/λ⁴ + … (λ in µm).
+    pub cauchy: Option<Spanned<Vec<Num>>>,
+    /// Glass: Sellmeier coefficients (C in µm²).
+    pub sellmeier: Option<Spanned<SellmeierDef>>,
+    /// Glass: Beer–Lambert absorption coefficient (1/mm), ≥ 0.
+    pub absorption_per_mm: Option<Num>,
+    /// Glass: diffusely scattered fraction at the faces, in [0, 1).
+    pub face_imperfection: Option<Num>,
+    /// Glass: microfacet roughness α of the ground edge, ≥ 0.
+    pub edge_roughness: Option<Num>,
+}
+
+/// n²(λ) = 1 + Σ bᵢ·λ²/(λ² − cᵢ), λ in µm.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SellmeierDef {
+    pub b: [Num; 3],
+    /// µm².
+    pub c: [Num; 3],
+}
+
+/// One `[[objects]]` entry: exactly one of `panel`, `box`, `mesh`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ObjectDef {
+    pub name: Spanned<String>,
+    pub material: Spanned<String>,
+    /// True pose T_B_object; identity when absent.
+    pub pose: Option<Spanned<PoseDef>>,
+    pub panel: Option<Spanned<PanelDef>>,
+    #[serde(rename = "box")]
+    pub cuboid: Option<Spanned<BoxDef>>,
+    pub mesh: Option<Spanned<MeshDef>>,
+}
+
+/// A pose: translation (mm) and fixed-axis x, y, z angles (deg), R = Rz·Ry·Rx.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PoseDef {
+    pub translation_mm: Option<[Num; 3]>,
+    pub rotation_deg: Option<[Num; 3]>,
+}
+
+/// A procedural glass panel (`geometry::panel`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PanelDef {
+    pub outline: Spanned<OutlineDef>,
+    pub thickness_mm: Num,
+    /// Absent: flat.
+    pub curvature: Option<Spanned<CurvatureDef>>,
+    /// Absent: flat ground.
+    pub edge: Option<Spanned<EdgeDef>>,
+    /// Absent: 5 mm.
+    pub tessellation_mm: Option<Num>,
+}
+
+/// Either `width_mm` and `height_mm`, or `polygon_mm`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct OutlineDef {
+    pub width_mm: Option<Num>,
+    pub height_mm: Option<Num>,
+    pub polygon_mm: Option<Spanned<Vec<[Num; 2]>>>,
+    /// Absent: 0 (sharp corners).
+    pub corner_radius_mm: Option<Num>,
+}
+
+/// A cylindrical bend.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CurvatureDef {
+    /// Radius of the bottom face (mm), > 0.
+    pub radius_mm: Num,
+}
+
+/// The edge finish: `"flat_ground"`, `"pencil"` or `{ arrissed = { bevel_mm = 0.5 } }`.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub(crate) enum EdgeDef {
+    FlatGround,
+    Pencil,
+    Arrissed { bevel_mm: Num },
+}
+
+/// A box centred on its pose.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct BoxDef {
+    pub size_mm: [Num; 3],
+}
+
+/// A glTF mesh file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MeshDef {
+    /// Relative to the scene file's folder.
+    pub file: Spanned<String>,
+    /// File units to metres; absent: 1 (glTF is in metres).
+    pub scale: Option<Num>,
+}
+
+/// `[target]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct TargetDef {
+    pub object: Spanned<String>,
+    /// T_BM0 in the base frame; absent: the true pose.
+    pub nominal_pose: Option<Spanned<PoseDef>>,
+}
+
+/// `[sensor]`: a preset and overrides.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SensorDef {
+    pub preset: Spanned<String>,
+    pub wavelength_nm: Option<Num>,
+    pub laser_power_mw: Option<Num>,
+    pub fan_angle_deg: Option<Num>,
+    /// 1/e² full width of the line at the waist (mm).
+    pub line_waist_mm: Option<Num>,
+    pub waist_distance_mm: Option<Num>,
+    pub m_squared: Option<Num>,
+    pub line_profile: Option<Spanned<LineProfileDef>>,
+    pub z_min_mm: Option<Num>,
+    pub z_max_mm: Option<Num>,
+    pub x_width_mm: Option<Num>,
+    pub points_per_profile: Option<Int>,
+    pub threshold_dn: Option<Int>,
+    pub exposure_ms: Option<Num>,
+    pub camera: Option<Spanned<CameraDef>>,
+    pub imager: Option<Spanned<ImagerDef>>,
+}
+
+/// Intensity along the laser line.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub(crate) enum LineProfileDef {
+    Uniform,
+    Gaussian { half_angle_1e2_deg: Num },
+}
+
+/// `[sensor.camera]` overrides.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CameraDef {
+    pub baseline_mm: Option<Num>,
+    pub lens_z_mm: Option<Num>,
+    pub aim_distance_mm: Option<Num>,
+    pub focal_length_mm: Option<Num>,
+    pub f_number: Option<Num>,
+    pub pixel_pitch_um: Option<Num>,
+    pub columns: Option<Int>,
+    pub rows: Option<Int>,
+}
+
+/// `[sensor.imager]` overrides.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ImagerDef {
+    pub quantum_efficiency: Option<Num>,
+    pub full_well_e: Option<Num>,
+    pub gain_dn_per_e: Option<Num>,
+    pub adc_bits: Option<Int>,
+}
+
+/// `[scan]`.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ScanDef {
+    pub scan_angle_deg: Option<Num>,
+    pub poses: Option<Int>,
+    pub standoff_mm: Option<Num>,
+    pub start_fraction: Option<Num>,
+}

@@ -1,0 +1,301 @@
+//! glTF 2.0 import: every triangle primitive of every node of the default scene, placed by
+//! the node transforms (accumulated parent → child, glTF 2.0 §3.5.2), scaled to metres.
+//!
+//! glTF positions are in metres by the specification (§3.4), so `scale` is 1 for a conforming
+//! file; a file exported in millimetres needs 0.001. Images and materials are not read: the
+//! scene file gives the material. A node whose transform has a negative determinant mirrors
+//! its mesh, so its triangles are re-wound to keep counter-clockwise = outward (glTF 2.0
+//! §3.7.2.1). Vertex normals are kept, transformed by the inverse transpose, when every
+//! primitive has them; otherwise the mesh is flat shaded.
+
+use std::path::{Path, PathBuf};
+
+use gltf::mesh::Mode;
+use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
+
+use crate::geometry::mesh::{Mesh, SurfacePart};
+
+/// Why a glTF file could not be turned into a mesh. The scene loader adds the scene file's
+/// location.
+#[derive(Debug, thiserror::Error)]
+pub enum GltfMeshError {
+    /// The file does not exist or cannot be opened.
+    #[error("cannot open `{}`: {source}", path.display())]
+    Open {
+        /// The glTF file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file is not valid glTF, or a buffer it references cannot be read.
+    #[error("{message}")]
+    Invalid {
+        /// What the glTF reader reported.
+        message: String,
+    },
+    /// A primitive draws points or lines.
+    #[error("mesh {mesh} primitive {primitive} has mode {mode}, expected triangles")]
+    NonTriangle {
+        /// Index of the mesh in the file's `meshes` array.
+        mesh: usize,
+        /// Primitive index within the mesh.
+        primitive: usize,
+        /// The glTF mode name (`LINES`, …).
+        mode: &'static str,
+    },
+    /// The default scene holds no triangles.
+    #[error("the default scene holds no triangles")]
+    Empty,
+}
+
+/// Loads the triangles of the default scene (or of the first scene, if the file names no
+/// default) of a `.gltf` or `.glb` file, with positions multiplied by `scale` (file units →
+/// metres). Triangles are `SurfacePart::Solid`.
+pub fn load_gltf_mesh(path: &Path, scale: f64) -> Result<Mesh, GltfMeshError> {
+    if let Err(source) = std::fs::metadata(path) {
+        return Err(GltfMeshError::Open {
+            path: path.to_owned(),
+            source,
+        });
+    }
+    let invalid = |e: gltf::Error| GltfMeshError::Invalid {
+        message: e.to_string(),
+    };
+    let gltf = gltf::Gltf::open(path).map_err(invalid)?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let buffers =
+        gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone()).map_err(invalid)?;
+    let scene = gltf
+        .document
+        .default_scene()
+        .or_else(|| gltf.document.scenes().next())
+        .ok_or(GltfMeshError::Empty)?;
+
+    let mut out = Mesh::default();
+    let mut all_have_normals = true;
+    let root = Matrix4::new_scaling(scale);
+    // Depth-first over the node tree with the accumulated transform; glTF forbids cycles
+    // (§3.5.1) and the reader validates that, but the depth bound keeps a bad file from
+    // looping.
+    let mut stack: Vec<(gltf::Node, Matrix4<f64>, usize)> =
+        scene.nodes().map(|n| (n, root, 0)).collect();
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > 1024 {
+            return Err(GltfMeshError::Invalid {
+                message: "node hierarchy deeper than 1024 levels".to_owned(),
+            });
+        }
+        let m = node.transform().matrix();
+        let local = Matrix4::from_fn(|r, c| f64::from(m[c][r]));
+        let world = parent * local;
+        if let Some(mesh) = node.mesh() {
+            let part = mesh_part(&mesh, &buffers, &world)?;
+            all_have_normals &= part.normals.is_some();
+            out.append(&part);
+        }
+        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+    }
+    if !all_have_normals {
+        out.normals = None;
+    }
+    if out.triangles.is_empty() {
+        return Err(GltfMeshError::Empty);
+    }
+    out.check()
+        .map_err(|message| GltfMeshError::Invalid { message })?;
+    Ok(out)
+}
+
+/// The triangles of one glTF mesh, transformed by `world`.
+fn mesh_part(
+    mesh: &gltf::Mesh,
+    buffers: &[gltf::buffer::Data],
+    world: &Matrix4<f64>,
+) -> Result<Mesh, GltfMeshError> {
+    let linear: Matrix3<f64> = world.fixed_view::<3, 3>(0, 0).into_owned();
+    let mirrored = linear.determinant() < 0.0;
+    let normal_matrix = linear.try_inverse().map(|m| m.transpose());
+    // Mesh names need gltf's `names` feature, which the crate does not enable; the index
+    // identifies the mesh in the file's `meshes` array.
+    let name = mesh.index();
+    let mut out = Mesh::default();
+    let mut all_have_normals = true;
+    for prim in mesh.primitives() {
+        let mode = prim.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            return Err(GltfMeshError::NonTriangle {
+                mesh: name,
+                primitive: prim.index(),
+                mode: mode_name(mode),
+            });
+        }
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+        let positions: Vec<Point3<f64>> = reader
+            .read_positions()
+            .ok_or_else(|| GltfMeshError::Invalid {
+                message: format!("mesh {name} primitive {} has no POSITION", prim.index()),
+            })?
+            .map(|p| {
+                let p = Point3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+                world.transform_point(&p)
+            })
+            .collect();
+        let n = positions.len() as u32;
+        let indices: Vec<u32> = match reader.read_indices() {
+            Some(ix) => ix.into_u32().collect(),
+            None => (0..n).collect(),
+        };
+        if let Some(&bad) = indices.iter().find(|&&i| i >= n) {
+            return Err(GltfMeshError::Invalid {
+                message: format!(
+                    "mesh {name} primitive {} has index {bad} out of {n} vertices",
+                    prim.index()
+                ),
+            });
+        }
+        let mut triangles = assemble(mode, &indices);
+        if mirrored {
+            for t in &mut triangles {
+                t.swap(1, 2);
+            }
+        }
+        let normals = match (reader.read_normals(), normal_matrix) {
+            (Some(ns), Some(nm)) => {
+                let ns: Vec<Vector3<f64>> = ns
+                    .map(|v| nm * Vector3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2])))
+                    .map(|v| v.try_normalize(1e-12).unwrap_or_else(Vector3::z))
+                    .collect();
+                (ns.len() == positions.len()).then_some(ns)
+            }
+            _ => None,
+        };
+        all_have_normals &= normals.is_some();
+        let parts = vec![SurfacePart::Solid; triangles.len()];
+        out.append(&Mesh {
+            positions,
+            normals,
+            triangles,
+            parts,
+        });
+    }
+    if !all_have_normals {
+        out.normals = None;
+    }
+    Ok(out)
+}
+
+/// Triangles from an index list in a triangle mode (glTF 2.0 §3.7.2.1, primitive topologies).
+/// Degenerate triangles (repeated index) are dropped.
+fn assemble(mode: Mode, ix: &[u32]) -> Vec<[u32; 3]> {
+    let tris: Vec<[u32; 3]> = match mode {
+        Mode::TriangleStrip => (2..ix.len())
+            .map(|i| {
+                // Every second triangle of a strip is wound the other way round.
+                if i % 2 == 0 {
+                    [ix[i - 2], ix[i - 1], ix[i]]
+                } else {
+                    [ix[i - 1], ix[i - 2], ix[i]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (2..ix.len()).map(|i| [ix[0], ix[i - 1], ix[i]]).collect(),
+        _ => ix.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+    };
+    tris.into_iter()
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .collect()
+}
+
+fn mode_name(mode: Mode) -> &'static str {
+    match mode {
+        Mode::Points => "POINTS",
+        Mode::Lines => "LINES",
+        Mode::LineLoop => "LINE_LOOP",
+        Mode::LineStrip => "LINE_STRIP",
+        Mode::Triangles => "TRIANGLES",
+        Mode::TriangleStrip => "TRIANGLE_STRIP",
+        Mode::TriangleFan => "TRIANGLE_FAN",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fixture(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/meshes")
+            .join(name)
+    }
+
+    #[test]
+    fn cube_fixture_applies_node_transforms_and_scale() {
+        // cube.gltf: a unit cube (±0.5) under a parent node translated by (0, 0, 2) whose
+        // child is translated by (1, 0, 0): the cube's centre lands at (1, 0, 2) file units.
+        let mesh = load_gltf_mesh(&fixture("cube.gltf"), 0.1).expect("cube loads");
+        assert_eq!(mesh.triangle_count(), 12);
+        let n = mesh.positions.len() as f64;
+        let centre = mesh
+            .positions
+            .iter()
+            .map(|p| p.coords)
+            .sum::<Vector3<f64>>()
+            / n;
+        assert!(
+            (centre - Vector3::new(0.1, 0.0, 0.2)).norm() < 1e-7,
+            "{centre:?}"
+        );
+        for axis in 0..3 {
+            let lo = mesh
+                .positions
+                .iter()
+                .map(|p| p[axis])
+                .fold(f64::MAX, f64::min);
+            let hi = mesh
+                .positions
+                .iter()
+                .map(|p| p[axis])
+                .fold(f64::MIN, f64::max);
+            assert!((hi - lo - 0.1).abs() < 1e-7, "axis {axis}: {lo}..{hi}");
+        }
+        // Outward winding survives: the signed volume is positive (0.1³).
+        let volume: f64 = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| mesh.positions[k as usize].coords);
+                a.dot(&b.cross(&c)) / 6.0
+            })
+            .sum();
+        assert!((volume - 1e-3).abs() < 1e-9, "volume {volume}");
+        assert!(mesh.parts.iter().all(|&p| p == SurfacePart::Solid));
+    }
+
+    #[test]
+    fn lines_primitive_is_rejected_with_its_mode() {
+        let err = load_gltf_mesh(&fixture("lines.gltf"), 1.0).unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            matches!(err, GltfMeshError::NonTriangle { primitive: 0, .. }),
+            "{msg}"
+        );
+        assert!(msg.contains("LINES") && msg.contains("mesh 0"), "{msg}");
+    }
+
+    #[test]
+    fn missing_file_is_an_open_error() {
+        let err = load_gltf_mesh(&fixture("no-such-file.gltf"), 1.0).unwrap_err();
+        assert!(matches!(err, GltfMeshError::Open { .. }), "{err}");
+    }
+
+    #[test]
+    fn strips_and_fans_are_assembled_with_consistent_winding() {
+        let strip = assemble(Mode::TriangleStrip, &[0, 1, 2, 3]);
+        assert_eq!(strip, vec![[0, 1, 2], [2, 1, 3]]);
+        let fan = assemble(Mode::TriangleFan, &[0, 1, 2, 3]);
+        assert_eq!(fan, vec![[0, 1, 2], [0, 2, 3]]);
+    }
+}

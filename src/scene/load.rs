@@ -1,0 +1,844 @@
+//! Scene file → `World`: read, parse, validate, build meshes, convert to SI.
+//!
+//! Validation happens here, value by value, so that every error can point at the offending
+//! value in the file (see `error`). Rules that need the built geometry (a
+//! corner radius too large for its outline, a bevel too deep for the glass) are checked by
+//! `geometry::panel::build_panel`, whose error names the scene-file field; it is mapped back
+//! to that field's location.
+
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::Path;
+
+use serde_spanned::Spanned;
+
+use super::error::{SceneError, SceneSource};
+use super::file::{
+    BoxDef, EdgeDef, MaterialDef, MaterialKind, MeshDef, ObjectDef, PanelDef, PoseDef, ScanDef,
+    SceneFile,
+};
+use super::gltf_mesh::{load_gltf_mesh, GltfMeshError};
+use super::sensor_overrides::resolve_sensor;
+use super::world::{GlassSpec, Material, NamedMaterial, Object, Target, World};
+use crate::geometry::border::BorderCurve;
+use crate::geometry::cuboid::cuboid;
+use crate::geometry::mesh::Mesh;
+use crate::geometry::panel::{build_panel, Curvature, EdgeProfile, Outline, PanelError, PanelSpec};
+use crate::geometry::pose::{pose_from_mm_deg, Pose};
+use crate::scan::ScanConfig;
+use crate::sensor::SensorConfig;
+
+/// Default face and border tessellation of a panel (mm): a chord error of 5²/(8·1500) ≈ 2 µm on
+/// the R = 1500 mm side window, far below the sensor's ~12 µm resolution (PARAMETERS.md §1c).
+const DEFAULT_TESSELLATION_MM: f64 = 5.0;
+/// Default scan angle (deg): the paper's "approximately 45 degrees" (Adrian & Pham, §IV-A).
+const DEFAULT_SCAN_ANGLE_DEG: f64 = 45.0;
+/// Default number of scan poses: the paper's n = 4 (Table 2).
+const DEFAULT_POSES: i64 = 4;
+/// Default arc-length fraction of the first pose, so that it does not sit on a corner of a
+/// rectangle whose border curve starts at one.
+const DEFAULT_START_FRACTION: f64 = 0.1;
+
+/// Reads a scene file and builds the `World` it describes, in SI units.
+///
+/// Mesh files are resolved against the scene file's folder. Every error names the file and,
+/// where it has one, the line and column of the offending value (see [`SceneError`]). Scenes
+/// with glass materials load; the light transport decides whether it can simulate them.
+pub fn load(path: &Path) -> Result<World, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    let src = SceneSource { path, text: &text };
+    let file: SceneFile = toml::from_str(&text).map_err(|e| src.parse_error(&e))?;
+    build_world(&src, &file)
+}
+
+/// What kind of shape an object is, and its border if it is a panel.
+enum Shape {
+    Panel(BorderCurve),
+    Box,
+    Mesh,
+}
+
+fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError> {
+    // The sensor comes first: dispersion laws are checked at its wavelength.
+    let sensor = resolve_sensor(file.sensor.get_ref(), src)?;
+    // Materials in file order (the TOML map is sorted by name; the key spans give the order).
+    let mut defs: Vec<(&Spanned<String>, &Spanned<MaterialDef>)> = file.materials.iter().collect();
+    defs.sort_by_key(|(name, _)| name.span().start);
+    let mut materials: Vec<(String, Material)> = Vec::new();
+    for (name, def) in defs {
+        let material = material(name.get_ref(), def, sensor.laser.wavelength_m, src)?;
+        materials.push((name.get_ref().clone(), material));
+    }
+
+    if file.objects.is_empty() {
+        return Err(SceneError::EmptyScene {
+            path: src.path.to_owned(),
+        });
+    }
+    let mut seen: HashMap<&str, Range<usize>> = HashMap::new();
+    let mut objects = Vec::with_capacity(file.objects.len());
+    let mut shapes = Vec::with_capacity(file.objects.len());
+    let mut used = vec![false; materials.len()];
+    for (i, obj) in file.objects.iter().enumerate() {
+        let def = obj.get_ref();
+        let prefix = format!("objects[{i}]");
+        let name = def.name.get_ref();
+        if name.trim().is_empty() {
+            return Err(src.invalid(
+                &def.name.span(),
+                format!("{prefix}.name"),
+                "must not be empty",
+            ));
+        }
+        if let Some(first) = seen.get(name.as_str()) {
+            let (line, column) = src.line_column(def.name.span().start);
+            let (first_line, first_column) = src.line_column(first.start);
+            return Err(SceneError::DuplicateName {
+                path: src.path.to_owned(),
+                line,
+                column,
+                field: format!("{prefix}.name"),
+                name: name.clone(),
+                first_line,
+                first_column,
+            });
+        }
+        seen.insert(name, def.name.span());
+
+        let material_name = def.material.get_ref();
+        let Some(m) = materials.iter().position(|(n, _)| n == material_name) else {
+            let (line, column) = src.line_column(def.material.span().start);
+            return Err(SceneError::UnknownMaterial {
+                path: src.path.to_owned(),
+                line,
+                column,
+                field: format!("{prefix}.material"),
+                name: material_name.clone(),
+                known: materials.iter().map(|(n, _)| n.clone()).collect(),
+            });
+        };
+        used[m] = true;
+        let pose = pose(
+            def.pose.as_ref().map(Spanned::get_ref),
+            &format!("{prefix}.pose"),
+            src,
+        )?;
+        let (mesh, shape) = shape(def, obj.span(), &prefix, src)?;
+        objects.push(Object {
+            name: name.clone(),
+            mesh,
+            pose,
+            material: m,
+        });
+        shapes.push(shape);
+    }
+
+    // Keep the materials that objects use (`World::materials` holds exactly those), in file
+    // order, and re-index the objects.
+    let mut new_index = vec![usize::MAX; materials.len()];
+    let mut world_materials = Vec::new();
+    for (k, (name, material)) in materials.into_iter().enumerate() {
+        if used[k] {
+            new_index[k] = world_materials.len();
+            world_materials.push(NamedMaterial { name, material });
+        }
+    }
+    for o in &mut objects {
+        o.material = new_index[o.material];
+    }
+
+    let target = match &file.target {
+        None => None,
+        Some(t) => {
+            let t = t.get_ref();
+            let field = "target.object";
+            let wanted = t.object.get_ref();
+            let (line, column) = src.line_column(t.object.span().start);
+            let Some(k) = objects.iter().position(|o| &o.name == wanted) else {
+                return Err(SceneError::UnknownObject {
+                    path: src.path.to_owned(),
+                    line,
+                    column,
+                    field: field.to_owned(),
+                    name: wanted.clone(),
+                    known: objects.iter().map(|o| o.name.clone()).collect(),
+                });
+            };
+            let border = match &shapes[k] {
+                Shape::Panel(border) => border.clone(),
+                Shape::Box | Shape::Mesh => {
+                    return Err(SceneError::TargetNotPanel {
+                        path: src.path.to_owned(),
+                        line,
+                        column,
+                        field: field.to_owned(),
+                        name: wanted.clone(),
+                        kind: if matches!(shapes[k], Shape::Box) {
+                            "box"
+                        } else {
+                            "mesh"
+                        },
+                    })
+                }
+            };
+            let nominal_pose = match &t.nominal_pose {
+                Some(p) => pose(Some(p.get_ref()), "target.nominal_pose", src)?,
+                None => objects[k].pose,
+            };
+            Some(Target {
+                object: k,
+                border,
+                nominal_pose,
+            })
+        }
+    };
+
+    let mount = pose(file.mount.as_ref().map(Spanned::get_ref), "mount", src)?;
+    let scan = scan(file.scan.as_ref().map(Spanned::get_ref), &sensor, src)?;
+    Ok(World {
+        source: src.path.to_owned(),
+        objects,
+        materials: world_materials,
+        target,
+        sensor,
+        mount,
+        scan,
+    })
+}
+
+fn material(
+    name: &str,
+    def: &Spanned<MaterialDef>,
+    wavelength_m: f64,
+    src: &SceneSource,
+) -> Result<Material, SceneError> {
+    let prefix = format!("materials.{name}");
+    let d = def.get_ref();
+    let field = |f: &str| format!("{prefix}.{f}");
+    let glass_fields: [(&str, Option<Range<usize>>); 6] = [
+        ("ior", d.ior.as_ref().map(Spanned::span)),
+        ("cauchy", d.cauchy.as_ref().map(Spanned::span)),
+        ("sellmeier", d.sellmeier.as_ref().map(Spanned::span)),
+        (
+            "absorption_per_mm",
+            d.absorption_per_mm.as_ref().map(Spanned::span),
+        ),
+        (
+            "face_imperfection",
+            d.face_imperfection.as_ref().map(Spanned::span),
+        ),
+        (
+            "edge_roughness",
+            d.edge_roughness.as_ref().map(Spanned::span),
+        ),
+    ];
+    match d.kind.get_ref() {
+        MaterialKind::Lambertian => {
+            if let Some((f, Some(span))) = glass_fields.iter().find(|(_, s)| s.is_some()) {
+                return Err(src.invalid(
+                    span,
+                    field(f),
+                    "is a glass field, but the material has kind = \"lambertian\" (expected only `albedo`)",
+                ));
+            }
+            let Some(albedo) = &d.albedo else {
+                return Err(src.invalid(
+                    &def.span(),
+                    prefix,
+                    "is missing `albedo` (required for kind = \"lambertian\")",
+                ));
+            };
+            let albedo = src.number(
+                albedo,
+                &field("albedo"),
+                |a| (0.0..=1.0).contains(&a),
+                "must be in [0, 1]",
+            )?;
+            Ok(Material::Lambertian { albedo })
+        }
+        MaterialKind::Glass => {
+            if let Some(a) = &d.albedo {
+                return Err(src.invalid(
+                    &a.span(),
+                    field("albedo"),
+                    "is a lambertian field, but the material has kind = \"glass\"",
+                ));
+            }
+            let laws: Vec<(&str, Range<usize>)> = glass_fields[..3]
+                .iter()
+                .filter_map(|(f, s)| s.clone().map(|s| (*f, s)))
+                .collect();
+            match laws.as_slice() {
+                [_] => {}
+                [] => {
+                    return Err(src.invalid(
+                        &def.span(),
+                        prefix,
+                        "must give exactly one index law (`ior`, `cauchy` or `sellmeier`), got none",
+                    ))
+                }
+                [(a, _), (b, span), ..] => {
+                    return Err(src.invalid(
+                        span,
+                        prefix,
+                        format!("must give exactly one index law (`ior`, `cauchy` or `sellmeier`), got both `{a}` and `{b}`"),
+                    ))
+                }
+            }
+            let required = |v: &Option<Spanned<f64>>, f: &str| {
+                v.as_ref().cloned().ok_or_else(|| {
+                    src.invalid(
+                        &def.span(),
+                        prefix.clone(),
+                        format!("is missing `{f}` (required for kind = \"glass\")"),
+                    )
+                })
+            };
+            let absorption = required(&d.absorption_per_mm, "absorption_per_mm")?;
+            let imperfection = required(&d.face_imperfection, "face_imperfection")?;
+            let roughness = required(&d.edge_roughness, "edge_roughness")?;
+            let ior = match &d.ior {
+                Some(v) => Some(src.number(v, &field("ior"), |n| n >= 1.0, "must be ≥ 1")?),
+                None => None,
+            };
+            let cauchy = match &d.cauchy {
+                Some(c) => {
+                    let n = c.get_ref().len();
+                    if !(1..=4).contains(&n) {
+                        return Err(src.invalid(
+                            &c.span(),
+                            field("cauchy"),
+                            format!("must hold 1 to 4 coefficients [A, B, C, D], got {n}"),
+                        ));
+                    }
+                    let mut out = Vec::with_capacity(n);
+                    for (k, v) in c.get_ref().iter().enumerate() {
+                        out.push(src.finite(v, &format!("{prefix}.cauchy[{k}]"))?);
+                    }
+                    Some(out)
+                }
+                None => None,
+            };
+            let sellmeier = match &d.sellmeier {
+                Some(s) => {
+                    let s = s.get_ref();
+                    let b = src.finite3(&s.b, &field("sellmeier.b"))?;
+                    let mut c = [0.0; 3];
+                    for (k, v) in s.c.iter().enumerate() {
+                        c[k] = src.non_negative(v, &format!("{prefix}.sellmeier.c[{k}]"))?;
+                    }
+                    Some((b, c))
+                }
+                None => None,
+            };
+            let law_span = (d.cauchy.as_ref().map(Spanned::span))
+                .or_else(|| d.sellmeier.as_ref().map(Spanned::span));
+            let index = dispersion_index(&cauchy, &sellmeier, wavelength_m);
+            if let (Some((law, n)), Some(span)) = (index, law_span) {
+                if !(n.is_finite() && n >= 1.0) {
+                    return Err(src.invalid(
+                        &span,
+                        field(law),
+                        format!(
+                            "must give a refractive index ≥ 1 at the laser wavelength {:.1} nm, \
+                             got n = {n}",
+                            wavelength_m * 1e9
+                        ),
+                    ));
+                }
+            }
+            Ok(Material::Glass(GlassSpec {
+                ior,
+                cauchy,
+                sellmeier,
+                absorption_per_m: src.non_negative(&absorption, &field("absorption_per_mm"))? * 1e3,
+                face_imperfection: src.number(
+                    &imperfection,
+                    &field("face_imperfection"),
+                    |f| (0.0..1.0).contains(&f),
+                    "must be in [0, 1)",
+                )?,
+                edge_roughness: src.non_negative(&roughness, &field("edge_roughness"))?,
+            }))
+        }
+    }
+}
+
+/// The index a dispersion law gives at `wavelength_m`, with the law's key:
+/// n = A + B/λ² + C/λ⁴ + D/λ⁶ (Cauchy) or n² = 1 + Σ Bᵢλ²/(λ² − Cᵢ) (Sellmeier), λ in µm
+/// (NaN where n² < 0).
+fn dispersion_index(
+    cauchy: &Option<Vec<f64>>,
+    sellmeier: &Option<([f64; 3], [f64; 3])>,
+    wavelength_m: f64,
+) -> Option<(&'static str, f64)> {
+    let l2 = (wavelength_m * 1e6).powi(2);
+    if let Some(c) = cauchy {
+        let n = c.iter().zip(0..).map(|(a, k)| a / l2.powi(k)).sum();
+        Some(("cauchy", n))
+    } else if let Some((b, c)) = sellmeier {
+        let n2 = 1.0 + (0..3).map(|k| b[k] * l2 / (l2 - c[k])).sum::<f64>();
+        Some(("sellmeier", if n2 >= 0.0 { n2.sqrt() } else { f64::NAN }))
+    } else {
+        None
+    }
+}
+
+fn pose(def: Option<&PoseDef>, field: &str, src: &SceneSource) -> Result<Pose, SceneError> {
+    let Some(def) = def else {
+        return Ok(Pose::identity());
+    };
+    let t = match &def.translation_mm {
+        Some(t) => src.finite3(t, &format!("{field}.translation_mm"))?,
+        None => [0.0; 3],
+    };
+    let r = match &def.rotation_deg {
+        Some(r) => src.finite3(r, &format!("{field}.rotation_deg"))?,
+        None => [0.0; 3],
+    };
+    Ok(pose_from_mm_deg(t, r))
+}
+
+/// Builds the mesh of an object: exactly one of `panel`, `box`, `mesh`.
+fn shape(
+    def: &ObjectDef,
+    span: Range<usize>,
+    prefix: &str,
+    src: &SceneSource,
+) -> Result<(Mesh, Shape), SceneError> {
+    let given: Vec<(&str, Range<usize>)> = [
+        ("panel", def.panel.as_ref().map(Spanned::span)),
+        ("box", def.cuboid.as_ref().map(Spanned::span)),
+        ("mesh", def.mesh.as_ref().map(Spanned::span)),
+    ]
+    .into_iter()
+    .filter_map(|(k, s)| s.map(|s| (k, s)))
+    .collect();
+    if let [(a, _), (b, second), ..] = given.as_slice() {
+        return Err(src.invalid(
+            second,
+            prefix,
+            format!("must have exactly one of `panel`, `box` or `mesh`, got both `{a}` and `{b}`"),
+        ));
+    }
+    if let Some(p) = &def.panel {
+        let panel = panel(p, &format!("{prefix}.panel"), src)?;
+        Ok((panel.mesh, Shape::Panel(panel.border)))
+    } else if let Some(b) = &def.cuboid {
+        Ok((
+            cuboid_mesh(b.get_ref(), &format!("{prefix}.box"), src)?,
+            Shape::Box,
+        ))
+    } else if let Some(m) = &def.mesh {
+        Ok((
+            gltf(m.get_ref(), &format!("{prefix}.mesh"), src)?,
+            Shape::Mesh,
+        ))
+    } else {
+        Err(src.invalid(
+            &span,
+            prefix,
+            "must have exactly one of `panel`, `box` or `mesh`, got none",
+        ))
+    }
+}
+
+fn cuboid_mesh(def: &BoxDef, field: &str, src: &SceneSource) -> Result<Mesh, SceneError> {
+    let mut size_m = [0.0; 3];
+    for (k, v) in def.size_mm.iter().enumerate() {
+        size_m[k] = src.positive(v, &format!("{field}.size_mm[{k}]"))? * 1e-3;
+    }
+    Ok(cuboid(size_m))
+}
+
+fn gltf(def: &MeshDef, prefix: &str, src: &SceneSource) -> Result<Mesh, SceneError> {
+    let scale = match &def.scale {
+        Some(s) => src.positive(s, &format!("{prefix}.scale"))?,
+        None => 1.0,
+    };
+    let field = format!("{prefix}.file");
+    let span = def.file.span();
+    let (line, column) = src.line_column(span.start);
+    let base = src.path.parent().unwrap_or(Path::new(""));
+    let mesh_path = base.join(def.file.get_ref());
+    load_gltf_mesh(&mesh_path, scale).map_err(|e| match e {
+        GltfMeshError::Open { path, source } => SceneError::MissingMesh {
+            path: src.path.to_owned(),
+            line,
+            column,
+            field,
+            mesh_path: path,
+            source,
+        },
+        GltfMeshError::NonTriangle {
+            mesh,
+            primitive,
+            mode,
+        } => SceneError::NonTrianglePrimitive {
+            path: src.path.to_owned(),
+            line,
+            column,
+            field,
+            mesh_path,
+            mesh,
+            primitive,
+            mode,
+        },
+        other @ (GltfMeshError::Invalid { .. } | GltfMeshError::Empty) => SceneError::Gltf {
+            path: src.path.to_owned(),
+            line,
+            column,
+            field,
+            mesh_path,
+            message: other.to_string(),
+        },
+    })
+}
+
+fn panel(
+    def: &Spanned<PanelDef>,
+    prefix: &str,
+    src: &SceneSource,
+) -> Result<crate::geometry::panel::Panel, SceneError> {
+    let d = def.get_ref();
+    let o = d.outline.get_ref();
+    let f = |name: &str| format!("{prefix}.{name}");
+    let corner_radius_m = match &o.corner_radius_mm {
+        Some(r) => src.non_negative(r, &f("outline.corner_radius_mm"))? * 1e-3,
+        None => 0.0,
+    };
+    let outline = match (&o.width_mm, &o.height_mm, &o.polygon_mm) {
+        (Some(w), Some(h), None) => Outline::Rectangle {
+            width_m: src.positive(w, &f("outline.width_mm"))? * 1e-3,
+            height_m: src.positive(h, &f("outline.height_mm"))? * 1e-3,
+            corner_radius_m,
+        },
+        (None, None, Some(poly)) => {
+            let n = poly.get_ref().len();
+            if n < 3 {
+                return Err(src.invalid(
+                    &poly.span(),
+                    f("outline.polygon_mm"),
+                    format!("must have at least 3 vertices, got {n}"),
+                ));
+            }
+            let mut vertices_m = Vec::with_capacity(n);
+            for (k, [x, y]) in poly.get_ref().iter().enumerate() {
+                let x = src.finite(x, &format!("{prefix}.outline.polygon_mm[{k}][0]"))?;
+                let y = src.finite(y, &format!("{prefix}.outline.polygon_mm[{k}][1]"))?;
+                vertices_m.push([x * 1e-3, y * 1e-3]);
+            }
+            Outline::Polygon {
+                vertices_m,
+                corner_radius_m,
+            }
+        }
+        (_, _, Some(poly)) => {
+            return Err(src.invalid(
+                &poly.span(),
+                f("outline"),
+                "must give either `width_mm` and `height_mm`, or `polygon_mm`, not both",
+            ))
+        }
+        (w, h, None) => {
+            let missing = if w.is_none() && h.is_none() {
+                "`width_mm` and `height_mm` (or `polygon_mm`)"
+            } else if w.is_none() {
+                "`width_mm`"
+            } else {
+                "`height_mm`"
+            };
+            return Err(src.invalid(
+                &d.outline.span(),
+                f("outline"),
+                format!("is missing {missing}"),
+            ));
+        }
+    };
+    let thickness_m = src.positive(&d.thickness_mm, &f("thickness_mm"))? * 1e-3;
+    let curvature = match &d.curvature {
+        Some(c) => Curvature::Cylindrical {
+            radius_m: src.positive(&c.get_ref().radius_mm, &f("curvature.radius_mm"))? * 1e-3,
+        },
+        None => Curvature::Flat,
+    };
+    let edge = match d.edge.as_ref().map(Spanned::get_ref) {
+        None | Some(EdgeDef::FlatGround) => EdgeProfile::FlatGround,
+        Some(EdgeDef::Pencil) => EdgeProfile::Pencil,
+        Some(EdgeDef::Arrissed { bevel_mm }) => EdgeProfile::Arrissed {
+            bevel_m: src.positive(bevel_mm, &f("edge.arrissed.bevel_mm"))? * 1e-3,
+        },
+    };
+    let tessellation_m = match &d.tessellation_mm {
+        Some(t) => src.positive(t, &f("tessellation_mm"))? * 1e-3,
+        None => DEFAULT_TESSELLATION_MM * 1e-3,
+    };
+    let spec = PanelSpec {
+        outline,
+        thickness_m,
+        curvature,
+        edge,
+        tessellation_m,
+    };
+    build_panel(&spec).map_err(|e| panel_error(&e, def, prefix, src))
+}
+
+/// Maps a `build_panel` error to the location of the scene-file field it names; a field this
+/// loader does not know is reported at the `panel` table.
+fn panel_error(
+    e: &PanelError,
+    def: &Spanned<PanelDef>,
+    prefix: &str,
+    src: &SceneSource,
+) -> SceneError {
+    let PanelError::InvalidParameter { field, message } = e;
+    let d = def.get_ref();
+    let o = d.outline.get_ref();
+    let outline = d.outline.span();
+    let or = |v: &Option<Spanned<f64>>, fallback: &Range<usize>| {
+        v.as_ref().map_or_else(|| fallback.clone(), Spanned::span)
+    };
+    let located: Option<(Range<usize>, &str)> = match *field {
+        "thickness_mm" => Some((d.thickness_mm.span(), "thickness_mm")),
+        "width_mm" => Some((or(&o.width_mm, &outline), "outline.width_mm")),
+        "height_mm" => Some((or(&o.height_mm, &outline), "outline.height_mm")),
+        "corner_radius_mm" => Some((
+            or(&o.corner_radius_mm, &outline),
+            "outline.corner_radius_mm",
+        )),
+        "polygon_mm" | "vertices_mm" => Some((
+            o.polygon_mm.as_ref().map_or(outline, Spanned::span),
+            "outline.polygon_mm",
+        )),
+        "radius_mm" => d
+            .curvature
+            .as_ref()
+            .map(|c| (c.get_ref().radius_mm.span(), "curvature.radius_mm")),
+        "bevel_mm" => match d.edge.as_ref().map(Spanned::get_ref) {
+            Some(EdgeDef::Arrissed { bevel_mm }) => {
+                Some((bevel_mm.span(), "edge.arrissed.bevel_mm"))
+            }
+            _ => None,
+        },
+        "edge" => d.edge.as_ref().map(|e| (e.span(), "edge")),
+        "tessellation_mm" => Some((or(&d.tessellation_mm, &def.span()), "tessellation_mm")),
+        _ => None,
+    };
+    match located {
+        Some((span, name)) => src.invalid(&span, format!("{prefix}.{name}"), message.clone()),
+        None => src.invalid(&def.span(), prefix, format!("{field} {message}")),
+    }
+}
+
+fn scan(
+    def: Option<&ScanDef>,
+    sensor: &SensorConfig,
+    src: &SceneSource,
+) -> Result<ScanConfig, SceneError> {
+    let default = ScanDef::default();
+    let def = def.unwrap_or(&default);
+    let scan_angle_deg = match &def.scan_angle_deg {
+        Some(a) => src.number(
+            a,
+            "scan.scan_angle_deg",
+            |a| a > 0.0 && a <= 90.0,
+            "must be in (0, 90] degrees",
+        )?,
+        None => DEFAULT_SCAN_ANGLE_DEG,
+    };
+    let poses = match &def.poses {
+        Some(p) => src.integer(p, "scan.poses", 1, 1_000_000)?,
+        None => DEFAULT_POSES,
+    };
+    let (z_min_mm, z_max_mm) = (sensor.range.z_min_m * 1e3, sensor.range.z_max_m * 1e3);
+    let standoff_m = match &def.standoff_mm {
+        Some(s) => {
+            src.number(
+                s,
+                "scan.standoff_mm",
+                |s| s >= z_min_mm && s <= z_max_mm,
+                &format!("must lie in the sensor's z range {z_min_mm}..={z_max_mm} mm"),
+            )? * 1e-3
+        }
+        None => sensor.range.z_mid_m(),
+    };
+    let start_fraction = match &def.start_fraction {
+        Some(f) => src.number(
+            f,
+            "scan.start_fraction",
+            |f| (0.0..1.0).contains(&f),
+            "must be in [0, 1)",
+        )?,
+        None => DEFAULT_START_FRACTION,
+    };
+    Ok(ScanConfig {
+        scan_angle_rad: scan_angle_deg.to_radians(),
+        poses: poses as usize,
+        standoff_m,
+        start_fraction,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use super::*;
+    use crate::geometry::mesh::SurfacePart;
+
+    fn scene(name: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes")
+            .join(name)
+    }
+
+    /// Lowest z (m) of an object's mesh in the base frame.
+    fn min_z(o: &Object) -> f64 {
+        o.mesh
+            .positions
+            .iter()
+            .map(|p| (o.pose * p).z)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// (objects, materials, glass materials, poses, scan angle in degrees) of a shipped scene,
+    /// after checking the invariants every scene keeps: valid meshes, a panel target, and
+    /// nothing below the table top except the table (or background board) itself.
+    fn summary(name: &str) -> (usize, usize, usize, usize, f64) {
+        let world = load(&scene(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        for o in &world.objects {
+            o.mesh
+                .check()
+                .unwrap_or_else(|e| panic!("{name}/{}: {e}", o.name));
+            assert!(o.mesh.triangle_count() > 0);
+            if o.name != "table" && o.name != "background" {
+                assert!(
+                    min_z(o) > -1e-9,
+                    "{name}/{} dips below the table: {}",
+                    o.name,
+                    min_z(o)
+                );
+            }
+        }
+        let target = world
+            .target
+            .as_ref()
+            .expect("every shipped scene has a target");
+        assert!(!target.border.vertices.is_empty());
+        let panel = &world.objects[target.object];
+        assert!(
+            panel.mesh.parts.contains(&SurfacePart::Edge),
+            "{name}: target is a panel"
+        );
+        let glass = world
+            .materials
+            .iter()
+            .filter(|m| matches!(m.material, Material::Glass(_)))
+            .count();
+        (
+            world.objects.len(),
+            world.materials.len(),
+            glass,
+            world.scan.poses,
+            world.scan.scan_angle_rad.to_degrees(),
+        )
+    }
+
+    #[test]
+    fn shipped_scenes_load_with_their_objects_and_materials() {
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+        let cases: [(&str, usize, usize, usize, usize, f64); 7] = [
+            ("flat_opaque.toml", 2, 2, 0, 4, 45.0),
+            ("flat_panel.toml", 6, 3, 1, 4, 88.0),
+            ("edge_study.toml", 2, 2, 1, 4, 40.0),
+            ("edge_study_bare.toml", 2, 2, 1, 4, 40.0),
+            ("edge_study_tape.toml", 10, 3, 1, 4, 40.0),
+            ("edge_study_cover.toml", 6, 3, 1, 4, 40.0),
+            ("car_side_window.toml", 6, 2, 1, 12, 45.0),
+        ];
+        for (name, objects, materials, glass, poses, angle) in cases {
+            let (o, m, g, p, a) = summary(name);
+            assert_eq!((o, m, g, p), (objects, materials, glass, poses), "{name}");
+            assert!(close(a, angle), "{name}: scan angle {a}");
+        }
+    }
+
+    #[test]
+    fn flat_opaque_is_in_si_units() {
+        let world = load(&scene("flat_opaque.toml")).expect("loads");
+        assert_eq!(world.source, scene("flat_opaque.toml"));
+        assert!((world.sensor.imager.exposure_s - 2e-5).abs() < 1e-15);
+        let target = world.target.expect("target");
+        assert_eq!(world.objects[target.object].name, "plate");
+        let t = target.nominal_pose.translation.vector;
+        assert!((t - nalgebra::Vector3::new(0.002, -0.003, 0.0)).norm() < 1e-15);
+        assert!((target.nominal_pose.rotation.angle() - 1f64.to_radians()).abs() < 1e-12);
+        // The table's top face is at z = 0.
+        let table = &world.objects[1];
+        let top = table
+            .mesh
+            .positions
+            .iter()
+            .map(|p| (table.pose * p).z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(top.abs() < 1e-15);
+        assert_eq!(
+            world.materials[table.material].material,
+            Material::Lambertian { albedo: 0.3 }
+        );
+        // Defaults: standoff at mid-range, first pose 10 % along the border, identity mount.
+        assert!((world.scan.standoff_m - 0.2575).abs() < 1e-12);
+        assert!((world.scan.start_fraction - 0.1).abs() < 1e-15);
+        assert_eq!(world.mount, Pose::identity());
+    }
+
+    #[test]
+    fn glass_becomes_a_glass_material_in_si() {
+        let world = load(&scene("flat_panel.toml")).expect("loads");
+        let pane = &world.objects[0];
+        let Material::Glass(g) = &world.materials[pane.material].material else {
+            panic!("the pane is glass");
+        };
+        assert_eq!(g.ior, Some(1.5208));
+        assert!((g.absorption_per_m - 3.0).abs() < 1e-12, "0.003 /mm = 3 /m");
+        assert!((world.sensor.imager.exposure_s - 5e-3).abs() < 1e-15);
+        // The pane's bottom face is 570 mm above the background board.
+        assert!((min_z(pane) - 0.570).abs() < 1e-9);
+    }
+
+    #[test]
+    fn car_window_rests_above_its_supports() {
+        let world = load(&scene("car_side_window.toml")).expect("loads");
+        let window = &world.objects[0];
+        // Lowest glass point: 40 − 1500·(1 − cos(275/1500)) = 14.86 mm (a little higher where
+        // the corners are rounded).
+        let low = min_z(window);
+        assert!(low > 0.0148 && low < 0.0160, "lowest glass point {low}");
+        for support in world
+            .objects
+            .iter()
+            .filter(|o| o.name.starts_with("support"))
+        {
+            let top = support
+                .mesh
+                .positions
+                .iter()
+                .map(|p| (support.pose * p).z)
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!((top - 0.023).abs() < 1e-12);
+            // Glass bottom above the block's outer edge |x| = 225 mm: 40 + √(R² − x²) − R.
+            let r: f64 = 1.5;
+            let glass_bottom = 0.040 + (r * r - 0.225f64.powi(2)).sqrt() - r;
+            assert!(glass_bottom - top > 0.0, "support penetrates the glass");
+        }
+        let nominal = world.target.expect("target").nominal_pose;
+        let off = nominal.translation.vector - window.pose.translation.vector;
+        assert!((off.norm() - 0.005).abs() < 1e-12);
+        assert!(
+            (nominal.rotation.angle_to(&window.pose.rotation) - 2f64.to_radians()).abs() < 1e-12
+        );
+    }
+}

@@ -1,0 +1,92 @@
+//! The resolved scene: everything the simulation needs, validated, in SI units.
+
+use std::path::PathBuf;
+
+use crate::geometry::border::BorderCurve;
+use crate::geometry::mesh::Mesh;
+use crate::geometry::pose::Pose;
+use crate::scan::ScanConfig;
+use crate::sensor::SensorConfig;
+
+/// Optical properties of a glass material, as parsed from the scene file. The glass light
+/// transport (issue #3) consumes these; until then a scene that uses glass cannot be simulated.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct GlassSpec {
+    /// Refractive index at the laser wavelength (if given directly).
+    pub ior: Option<f64>,
+    /// Cauchy coefficients (A, B µm², C µm⁴…), n(λ) = A + B/λ² + C/λ⁴ (λ in µm), if given.
+    pub cauchy: Option<Vec<f64>>,
+    /// Sellmeier coefficients B1..3 and C1..3 (µm²), if given.
+    pub sellmeier: Option<([f64; 3], [f64; 3])>,
+    /// Beer–Lambert absorption coefficient (1/m).
+    pub absorption_per_m: f64,
+    /// Fraction of light scattered diffusely by the faces (dust, micro-defects), in [0, 1).
+    pub face_imperfection: f64,
+    /// RMS slope roughness α of the ground edge (microfacet parameter), ≥ 0.
+    pub edge_roughness: f64,
+}
+
+/// A material, by kind.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Material {
+    /// An ideal diffuse reflector with the given albedo in [0, 1].
+    Lambertian {
+        /// Hemispherical reflectance in [0, 1].
+        albedo: f64,
+    },
+    /// Glass (parsed, not yet simulated).
+    Glass(GlassSpec),
+}
+
+/// A named material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedMaterial {
+    /// The name used by objects in the scene file.
+    pub name: String,
+    /// Its optical model.
+    pub material: Material,
+}
+
+/// One object of the scene.
+#[derive(Clone, Debug)]
+pub struct Object {
+    /// Name from the scene file (unique).
+    pub name: String,
+    /// Mesh in the object's model frame (m).
+    pub mesh: Mesh,
+    /// True pose of the object in the base frame B (T_B_object).
+    pub pose: Pose,
+    /// Index into `World::materials`.
+    pub material: usize,
+}
+
+/// The object whose border is scanned and located (the glass panel or its opaque copy).
+#[derive(Clone, Debug)]
+pub struct Target {
+    /// Index into `World::objects`.
+    pub object: usize,
+    /// The border edge curve in the model frame M.
+    pub border: BorderCurve,
+    /// The nominal (coarse) pose T_BM0 that localisation starts from.
+    pub nominal_pose: Pose,
+}
+
+/// A validated scene, ready to simulate.
+#[derive(Clone, Debug)]
+pub struct World {
+    /// The scene file it came from.
+    pub source: PathBuf,
+    /// All objects (at least one).
+    pub objects: Vec<Object>,
+    /// All materials referenced by objects.
+    pub materials: Vec<NamedMaterial>,
+    /// The scanned object, if the scene names one.
+    pub target: Option<Target>,
+    /// The sensor head (preset plus overrides).
+    pub sensor: SensorConfig,
+    /// Hand-eye mount T_FS: the sensor frame in the robot flange frame.
+    pub mount: Pose,
+    /// Scan settings (CLI flags may override them).
+    pub scan: ScanConfig,
+}

@@ -1,0 +1,80 @@
+//! The sensor head in its own frame S (scanCONTROL convention): the laser plane is y = 0,
+//! x runs along the laser line and z is the measuring direction away from the sensor.
+//!
+//! - `projector`: the laser sheet (fan from a virtual source at the origin, Gaussian-beam
+//!   thickness, power, wavelength).
+//! - `camera`: thin lens with a finite aperture and a Scheimpflug-tilted image plane on which
+//!   the whole laser plane is in focus; the exact map pixel ↔ (x, z) in the laser plane.
+//! - `imager`: irradiance → digital numbers (noise-free linear model for now).
+//! - `profile`: per-column peak detection and triangulation to (x, z).
+//! - `preset`: named sensor presets (`scancontrol-2600-100`).
+//!
+//! Units: SI inside (m, s, W, rad). Images are row-major, row 0 at the top (near range).
+
+pub mod camera;
+pub mod image;
+pub mod imager;
+pub mod preset;
+pub mod profile;
+pub mod projector;
+
+use camera::CameraSpec;
+use imager::ImagerSpec;
+use projector::LaserSheet;
+
+/// The measuring range of the head (for validation of scan standoffs and reports).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct MeasuringRange {
+    /// Start of the z range (m).
+    pub z_min_m: f64,
+    /// End of the z range (m).
+    pub z_max_m: f64,
+    /// Largest x width of the field, reached at `z_max_m` (m).
+    pub x_width_m: f64,
+}
+
+impl MeasuringRange {
+    /// Middle of the z range (m): the default scan standoff.
+    pub fn z_mid_m(&self) -> f64 {
+        0.5 * (self.z_min_m + self.z_max_m)
+    }
+}
+
+/// A complete sensor head: projector, camera, image sensor and profile settings.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct SensorConfig {
+    /// Preset name it was built from (e.g. `scancontrol-2600-100`).
+    pub preset: String,
+    /// The laser sheet.
+    pub laser: LaserSheet,
+    /// The receiving camera.
+    pub camera: CameraSpec,
+    /// The image sensor behind the camera.
+    pub imager: ImagerSpec,
+    /// Nominal measuring range.
+    pub range: MeasuringRange,
+    /// Points per profile (80…640 in steps of 80 on a 26xx; must divide `camera.columns`).
+    pub points_per_profile: usize,
+    /// Peak detection threshold (DN, 0…2^bits − 1).
+    pub threshold_dn: u16,
+}
+
+/// A sensor configuration with its camera built (the Scheimpflug plane solved once).
+#[derive(Clone, Debug)]
+pub struct SensorHead {
+    /// The configuration.
+    pub config: SensorConfig,
+    /// The camera model.
+    pub camera: camera::Camera,
+}
+
+impl SensorHead {
+    /// Builds the camera of `config`; fails if the measuring range does not image onto the
+    /// pixel grid.
+    pub fn new(config: &SensorConfig) -> Result<SensorHead, camera::CameraError> {
+        Ok(SensorHead {
+            config: config.clone(),
+            camera: camera::Camera::new(&config.camera, &config.range)?,
+        })
+    }
+}

@@ -1,0 +1,241 @@
+//! The laser sheet: a fan of light from a virtual source at the origin of S, spread in the
+//! x–z plane, focused across the sheet (along y) to a Gaussian waist.
+//!
+//! Thickness follows the Gaussian-beam law w(s) = w0·√(1 + ((s − s0)/zR)²), zR = π·w0²/(M²·λ)
+//! (Schäfter+Kirchhoff Rayleigh-range note, PARAMETERS.md §4), with s the path length along
+//! the fan ray and w the 1/e² intensity radius.
+
+/// Intensity distribution along the laser line.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LineProfile {
+    /// Uniform in the tangent of the fan angle, i.e. uniform along x on a plane z = const
+    /// (an ideal Powell lens).
+    Uniform,
+    /// Gaussian in fan angle with the given 1/e² half-angle (rad) (cylinder-lens line),
+    /// clipped to the fan.
+    Gaussian {
+        /// 1/e² half-angle of the Gaussian (rad).
+        half_angle_1e2_rad: f64,
+    },
+}
+
+/// Parameters of the laser sheet.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct LaserSheet {
+    /// Vacuum wavelength (m); 658 nm for the scanCONTROL 2600 (paper, Section V).
+    pub wavelength_m: f64,
+    /// Optical power leaving the projector (W).
+    pub power_w: f64,
+    /// Full fan angle in the x–z plane (rad), in (0, π).
+    pub fan_angle_rad: f64,
+    /// 1/e² intensity radius of the waist across the sheet (m), > 0.
+    pub waist_radius_m: f64,
+    /// Path length from the virtual source to the waist (m), ≥ 0.
+    pub waist_distance_m: f64,
+    /// Beam quality factor M² ≥ 1.
+    pub m_squared: f64,
+    /// Intensity distribution along the line.
+    pub line_profile: LineProfile,
+}
+
+use nalgebra::{Point3, Vector3};
+
+/// A laser ray in the sensor frame, with the uniforms it came from resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaserRay {
+    /// Origin on the plane z = 0 of S (m).
+    pub origin: Point3<f64>,
+    /// Unit direction.
+    pub direction: Vector3<f64>,
+    /// Fan angle φ of the ray in the x–z plane (rad).
+    pub fan_angle: f64,
+}
+
+impl LaserSheet {
+    /// Rayleigh range zR = π·w0²/(M²·λ) (m).
+    pub fn rayleigh_range_m(&self) -> f64 {
+        std::f64::consts::PI * self.waist_radius_m.powi(2) / (self.m_squared * self.wavelength_m)
+    }
+
+    /// 1/e² half-width of the sheet at path length `s` from the source (m): the Gaussian-beam law.
+    pub fn radius_at(&self, s: f64) -> f64 {
+        let zr = self.rayleigh_range_m();
+        self.waist_radius_m * (1.0 + ((s - self.waist_distance_m) / zr).powi(2)).sqrt()
+    }
+
+    /// Far-field 1/e² half-angle divergence θ0 = M²·λ/(π·w0) (rad).
+    pub fn divergence_rad(&self) -> f64 {
+        self.m_squared * self.wavelength_m / (std::f64::consts::PI * self.waist_radius_m)
+    }
+
+    /// Fan angle φ for a uniform number `u` in [0, 1): the inverse CDF of the line profile.
+    pub fn fan_angle(&self, u: f64) -> f64 {
+        let half = 0.5 * self.fan_angle_rad;
+        match self.line_profile {
+            LineProfile::Uniform => ((2.0 * u - 1.0) * half.tan()).atan(),
+            LineProfile::Gaussian { half_angle_1e2_rad } => {
+                // Intensity ∝ exp(−2φ²/h²): a normal law with σ = h/2, truncated to the fan.
+                let sigma = 0.5 * half_angle_1e2_rad;
+                let lo = normal_cdf(-half / sigma);
+                let hi = normal_cdf(half / sigma);
+                sigma * normal_quantile(lo + u * (hi - lo))
+            }
+        }
+    }
+
+    /// Samples one laser ray from four uniforms: `u[0]` → fan angle, `u[1..3]` → the transverse
+    /// position at the waist and the transverse angle (two Box–Muller normals), `u[3]` unused
+    /// (kept so the dimension layout is stable).
+    ///
+    /// The Gaussian beam is represented by rays whose waist offset y_w ~ N(0, (w0/2)²) and slope
+    /// tan ψ ~ N(0, (θ0/2)²) are independent: the Wigner function of a Gaussian beam is Gaussian,
+    /// so the second moment of this ray bundle follows w(s)² = w0² + θ0²·(s − s0)² exactly.
+    pub fn sample_ray(&self, u: [f64; 4]) -> LaserRay {
+        let fan_angle = self.fan_angle(u[0]);
+        let (n1, n2) = box_muller(u[1], u[2]);
+        let y_waist = 0.5 * self.waist_radius_m * n1;
+        let slope = 0.5 * self.divergence_rad() * n2;
+        let d0 = Vector3::new(fan_angle.sin(), 0.0, fan_angle.cos());
+        let direction = (d0 + Vector3::y() * slope).normalize();
+        let origin = Point3::new(0.0, y_waist - self.waist_distance_m * slope, 0.0);
+        LaserRay {
+            origin,
+            direction,
+            fan_angle,
+        }
+    }
+}
+
+/// Two independent standard normals from two uniforms (Box–Muller).
+fn box_muller(u1: f64, u2: f64) -> (f64, f64) {
+    let r = (-2.0 * (1.0 - u1).ln()).sqrt();
+    let a = 2.0 * std::f64::consts::PI * u2;
+    (r * a.cos(), r * a.sin())
+}
+
+/// Standard normal CDF Φ(x) = erfc(−x/√2)/2.
+fn normal_cdf(x: f64) -> f64 {
+    0.5 * erfc(-x / std::f64::consts::SQRT_2)
+}
+
+/// Complementary error function, Numerical Recipes (2nd ed.) `erfcc`, |ε| < 1.2e-7.
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let poly = -z * z - 1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98
+                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+    let r = t * poly.exp();
+    if x >= 0.0 {
+        r
+    } else {
+        2.0 - r
+    }
+}
+
+/// Inverse of the standard normal CDF (P. J. Acklam's rational approximation, relative
+/// error < 1.15e-9).
+fn normal_quantile(p: f64) -> f64 {
+    const A: [f64; 6] = [
+        -3.969_683_028_665_376e1,
+        2.209_460_984_245_205e2,
+        -2.759_285_104_469_687e2,
+        1.383_577_518_672_69e2,
+        -3.066_479_806_614_716e1,
+        2.506_628_277_459_239,
+    ];
+    const B: [f64; 5] = [
+        -5.447_609_879_822_406e1,
+        1.615_858_368_580_409e2,
+        -1.556_989_798_598_866e2,
+        6.680_131_188_771_972e1,
+        -1.328_068_155_288_572e1,
+    ];
+    const C: [f64; 6] = [
+        -7.784_894_002_430_293e-3,
+        -3.223_964_580_411_365e-1,
+        -2.400_758_277_161_838,
+        -2.549_732_539_343_734,
+        4.374_664_141_464_968,
+        2.938_163_982_698_783,
+    ];
+    const D: [f64; 4] = [
+        7.784_695_709_041_462e-3,
+        3.224_671_290_700_398e-1,
+        2.445_134_137_142_996,
+        3.754_408_661_907_416,
+    ];
+    let p = p.clamp(1e-300, 1.0 - 1e-16);
+    let tail = |q: f64| {
+        (((((C[0] * q + C[1]) * q + C[2]) * q + C[3]) * q + C[4]) * q + C[5])
+            / ((((D[0] * q + D[1]) * q + D[2]) * q + D[3]) * q + 1.0)
+    };
+    if p < 0.02425 {
+        tail((-2.0 * p.ln()).sqrt())
+    } else if p > 1.0 - 0.02425 {
+        -tail((-2.0 * (1.0 - p).ln()).sqrt())
+    } else {
+        let q = p - 0.5;
+        let r = q * q;
+        (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
+            / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sensor::preset::scancontrol_2600_100;
+
+    #[test]
+    fn ray_bundle_thickness_follows_the_gaussian_beam_law() {
+        let laser = scancontrol_2600_100().laser;
+        let n = 200_000;
+        for s in [0.125, 0.2575, 0.39] {
+            let mut sum2 = 0.0;
+            for i in 0..n {
+                // A deterministic, well spread set of uniforms (Kronecker sequence).
+                let u1 = (0.5 + i as f64 * 0.754_877_666_246_692_7).fract();
+                let u2 = (0.5 + i as f64 * 0.569_840_290_998_053_3).fract();
+                let r = laser.sample_ray([0.5, u1, u2, 0.0]);
+                let y = r.origin.y + r.direction.y / r.direction.z * s;
+                sum2 += y * y;
+            }
+            let w = 2.0 * (sum2 / n as f64).sqrt();
+            let expected = laser.radius_at(s);
+            assert!(
+                (w / expected - 1.0).abs() < 0.01,
+                "s = {s}: w = {w}, expected {expected}"
+            );
+        }
+        // PARAMETERS.md §4: w(125 mm) = w(390 mm) = 471/2 µm for a 333 µm waist at 257.5 mm.
+        let mut l = laser;
+        l.waist_radius_m = 0.1665e-3;
+        assert!((l.radius_at(0.125) * 2e6 - 471.0).abs() < 1.5);
+    }
+
+    #[test]
+    fn uniform_line_is_uniform_along_x() {
+        let laser = scancontrol_2600_100().laser;
+        let half = 0.5 * laser.fan_angle_rad;
+        // Uniform in tan φ: equal steps in u give equal steps in x = z·tan φ.
+        let x = |u: f64| laser.fan_angle(u).tan();
+        assert!((x(0.0) + half.tan()).abs() < 1e-12 && (x(1.0) - half.tan()).abs() < 1e-12);
+        assert!(((x(0.75) - x(0.5)) - (x(0.5) - x(0.25))).abs() < 1e-12);
+    }
+
+    #[test]
+    fn normal_quantile_inverts_the_cdf() {
+        for p in [1e-6, 0.01, 0.2, 0.5, 0.9, 0.999] {
+            let x = normal_quantile(p);
+            assert!((normal_cdf(x) - p).abs() < 2e-7 * p.max(1e-3), "p {p}");
+        }
+        assert!((normal_quantile(0.975) - 1.959_963_985).abs() < 1e-6);
+    }
+}

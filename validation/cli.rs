@@ -1,0 +1,188 @@
+//! The command line on good and bad input: exit codes, messages, output-directory safety.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn glassscan(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glassscan"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the glassscan binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn out_dir(tmp: &tempfile::TempDir, name: &str) -> PathBuf {
+    tmp.path().join(name)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn scan_writes_images_profiles_and_manifest_and_prints_json() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = out_dir(&tmp, "run");
+    let o = glassscan(&[
+        "scan",
+        "scenes/flat_opaque.toml",
+        "--out",
+        s(&out),
+        "--poses",
+        "2",
+        "--photons",
+        "20000",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).expect("--json prints JSON");
+    assert_eq!(summary["poses"].as_array().unwrap().len(), 2);
+    for f in [
+        "pose_000.png",
+        "pose_000.exr",
+        "pose_000_profile.csv",
+        "pose_001.png",
+        "manifest.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["seed"], 1);
+    assert_eq!(manifest["poses"][1]["index"], 1);
+    assert!(manifest["version"].is_string() && manifest["scene"].is_string());
+}
+
+#[test]
+fn refuses_a_non_empty_output_directory_without_force_and_keeps_its_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = out_dir(&tmp, "busy");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("precious.txt"), "keep me").unwrap();
+    let o = glassscan(&[
+        "scan",
+        "scenes/flat_opaque.toml",
+        "--out",
+        s(&out),
+        "--photons",
+        "5000",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(out.join("precious.txt")).unwrap(),
+        "keep me"
+    );
+    let o = glassscan(&[
+        "scan",
+        "scenes/flat_opaque.toml",
+        "--out",
+        s(&out),
+        "--photons",
+        "5000",
+        "--poses",
+        "1",
+        "--force",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(out.join("precious.txt")).unwrap(),
+        "keep me"
+    );
+}
+
+#[test]
+fn bad_input_exits_with_code_2_and_a_clear_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = out_dir(&tmp, "x");
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["scan", "scenes/does_not_exist.toml", "--out", s(&out)],
+            "does_not_exist.toml",
+        ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--poses",
+                "0",
+            ],
+            "--poses",
+        ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--scan-angle-deg",
+                "120",
+            ],
+            "--scan-angle-deg",
+        ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--exposure-ms=-1",
+            ],
+            "--exposure-ms",
+        ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--seed",
+                "abc",
+            ],
+            "--seed",
+        ),
+        (
+            &["scan", "scenes/flat_panel.toml", "--out", s(&out)],
+            "glass",
+        ),
+    ];
+    for (args, needle) in cases {
+        let o = glassscan(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(needle),
+            "{args:?}: message lacks {needle:?}: {}",
+            stderr(&o)
+        );
+    }
+    assert!(!out.exists(), "a failed run created its output directory");
+}
+
+#[test]
+fn a_bad_scene_file_names_file_line_and_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("bad.toml");
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/flat_opaque.toml"),
+    )
+    .unwrap()
+    .replace("thickness_mm = 4", "thickness_mm = -4");
+    assert!(
+        text.contains("thickness_mm = -4"),
+        "flat_opaque.toml has no `thickness_mm = 4` line"
+    );
+    std::fs::write(&scene, text).unwrap();
+    let o = glassscan(&["scan", s(&scene), "--out", s(&out_dir(&tmp, "y"))]);
+    assert_eq!(o.status.code(), Some(2));
+    let msg = stderr(&o);
+    assert!(
+        msg.contains("bad.toml:") && msg.contains("thickness_mm") && msg.contains("-4"),
+        "{msg}"
+    );
+}

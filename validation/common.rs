@@ -1,0 +1,132 @@
+//! Builders for small analytic worlds (boxes in front of a sensor at a known pose).
+
+use std::path::PathBuf;
+
+use glassscan::geometry::cuboid::cuboid;
+use glassscan::geometry::pose::{pose_from_mm_deg, Pose};
+use glassscan::scan::poses::ScanPose;
+use glassscan::scan::simulate::{simulate_pose, PoseResult};
+use glassscan::scan::ScanConfig;
+use glassscan::scene::world::{Material, NamedMaterial, Object, World};
+use glassscan::sensor::preset::scancontrol_2600_100;
+use glassscan::sensor::SensorHead;
+use glassscan::transport::{TraceScene, TraceSettings};
+use nalgebra::Point3;
+
+/// A box of `size_mm` whose pose is given in mm and degrees, with Lambertian `albedo`.
+pub struct BoxSpec {
+    pub size_mm: [f64; 3],
+    pub translation_mm: [f64; 3],
+    pub rotation_deg: [f64; 3],
+    pub albedo: f64,
+}
+
+/// A plate facing the sensor (which sits at the base-frame origin looking along +z), whose
+/// near face is the plane z = `z_mm`, rotated by `tilt_deg` about the y axis through (0, 0, z).
+pub fn facing_plate(z_mm: f64, tilt_deg: f64) -> BoxSpec {
+    // The box is 10 mm thick; its centre sits 5 mm behind the face along the tilted normal.
+    let t = tilt_deg.to_radians();
+    BoxSpec {
+        size_mm: [400.0, 400.0, 10.0],
+        translation_mm: [5.0 * t.sin(), 0.0, z_mm + 5.0 * t.cos()],
+        rotation_deg: [0.0, tilt_deg, 0.0],
+        albedo: 0.8,
+    }
+}
+
+/// A world of boxes seen by the default scanCONTROL 2600-100 head, with the exposure set so
+/// that a white target at mid-range stays below full scale.
+pub fn world_of_boxes(boxes: &[BoxSpec]) -> World {
+    let mut sensor = scancontrol_2600_100();
+    sensor.imager.exposure_s = 0.02e-3;
+    World {
+        source: PathBuf::from("<analytic test world>"),
+        objects: boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| Object {
+                name: format!("box{i}"),
+                mesh: cuboid(b.size_mm.map(|v| v * 1e-3)),
+                pose: pose_from_mm_deg(b.translation_mm, b.rotation_deg),
+                material: i,
+            })
+            .collect(),
+        materials: boxes
+            .iter()
+            .enumerate()
+            .map(|(i, b)| NamedMaterial {
+                name: format!("m{i}"),
+                material: Material::Lambertian { albedo: b.albedo },
+            })
+            .collect(),
+        target: None,
+        sensor,
+        mount: Pose::identity(),
+        scan: ScanConfig {
+            scan_angle_rad: std::f64::consts::FRAC_PI_2,
+            poses: 1,
+            standoff_m: 0.2575,
+            start_fraction: 0.0,
+        },
+    }
+}
+
+/// The sensor at the base-frame origin (S = B).
+pub fn identity_pose() -> ScanPose {
+    ScanPose {
+        index: 0,
+        sensor: Pose::identity(),
+        flange: Pose::identity(),
+        edge_point: Point3::origin(),
+        border_fraction: 0.0,
+    }
+}
+
+/// Simulates `world` from the identity pose with `photons` photons.
+pub fn simulate(world: &World, photons: u64, seed: u64) -> PoseResult {
+    let scene = TraceScene::new(world).expect("analytic worlds are opaque");
+    let head = SensorHead::new(&world.sensor).expect("preset camera is valid");
+    simulate_pose(
+        &scene,
+        &head,
+        &identity_pose(),
+        &TraceSettings {
+            photons,
+            max_depth: 16,
+            seed,
+        },
+    )
+}
+
+/// Least-squares line z = a + b·x through (x, z) points; returns (a, b, rms residual).
+pub fn fit_line(points: &[(f64, f64)]) -> (f64, f64, f64) {
+    let n = points.len() as f64;
+    let (sx, sz) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), p| (a + p.0, b + p.1));
+    let (mx, mz) = (sx / n, sz / n);
+    let (mut sxx, mut sxz) = (0.0, 0.0);
+    for &(x, z) in points {
+        sxx += (x - mx) * (x - mx);
+        sxz += (x - mx) * (z - mz);
+    }
+    let b = sxz / sxx;
+    let a = mz - b * mx;
+    let rms = (points
+        .iter()
+        .map(|&(x, z)| (z - a - b * x).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    (a, b, rms)
+}
+
+/// Valid (x_mm, z_mm) points of a profile.
+pub fn valid_points(r: &PoseResult) -> Vec<(f64, f64)> {
+    r.profile
+        .points
+        .iter()
+        .filter(|p| p.valid)
+        .map(|p| (p.x_mm, p.z_mm))
+        .collect()
+}

@@ -1,0 +1,8 @@
+//! glassscan's validation suite: physics checks against analytic results, pipeline checks on
+//! shipped scenes, and the command line's behaviour on good and bad input. Each check cites
+//! the source of its reference value; validation/README.md lists what each one proves.
+
+mod cli;
+mod common;
+mod physics;
+mod scenes;

@@ -1,0 +1,4 @@
+//! Analytic physics checks.
+
+mod radiometry;
+mod triangulation;
