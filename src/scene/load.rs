@@ -770,7 +770,7 @@ mod tests {
     fn flat_opaque_is_in_si_units() {
         let world = load(&scene("flat_opaque.toml")).expect("loads");
         assert_eq!(world.source, scene("flat_opaque.toml"));
-        assert!((world.sensor.imager.exposure_s - 2e-5).abs() < 1e-15);
+        assert!((world.sensor.imager.exposure_s - 1.5e-5).abs() < 1e-15);
         let target = world.target.expect("target");
         assert_eq!(world.objects[target.object].name, "plate");
         let t = target.nominal_pose.translation.vector;

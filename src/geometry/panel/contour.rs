@@ -176,6 +176,21 @@ pub(super) fn inset(contour: &mut [RimPoint], inset_m: f64) -> Result<(), String
     Ok(())
 }
 
+/// Splits every face segment of `contour` longer than `max_m` evenly. Insets lengthen
+/// segments on concave arcs and next to concave sharp corners; this keeps the face boundary
+/// (and so the border curve) within the tessellation length.
+pub(super) fn limit_face_segments(contour: &[RimPoint], max_m: f64) -> Vec<RimPoint> {
+    let n = contour.len();
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let (a, b) = (&contour[i], &contour[(i + 1) % n]);
+        out.push(*a);
+        let steps = segments((b.face - a.face).norm() / max_m);
+        out.extend((1..steps).map(|k| a.lerp(b, k as f64 / steps as f64)));
+    }
+    out
+}
+
 /// The outline's corner polygon (counter-clockwise, no collinear vertices) and corner radius.
 fn corners(outline: &Outline) -> Result<(Vec<Point2<f64>>, f64), PanelError> {
     match outline {

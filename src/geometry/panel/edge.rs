@@ -7,7 +7,7 @@
 //! split into facets: quads are made within a facet only, and the point shared by two facets
 //! appears in both with each facet's normal, so that arrisses are flat-shaded.
 
-use nalgebra::Vector3;
+use nalgebra::{Vector2, Vector3};
 
 use super::contour::{RimPoint, MAX_ARC_STEP};
 use super::{invalid, Curvature, EdgeProfile, MeshBuilder, PanelError};
@@ -15,13 +15,13 @@ use crate::geometry::mesh::SurfacePart;
 
 /// One point of the edge cross-section.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct SectionPoint {
+struct SectionPoint {
     /// Inset from the outline (m), ≥ 0.
-    pub(super) inset_m: f64,
+    inset_m: f64,
     /// Height above the bottom face (m), in [0, t].
-    pub(super) height_m: f64,
+    height_m: f64,
     /// Unit normal in the section: (outward component, vertical component).
-    pub(super) normal: [f64; 2],
+    normal: [f64; 2],
 }
 
 /// The edge cross-section as facets, top to bottom. The first and the last point have the same
@@ -119,7 +119,7 @@ pub(super) fn add_band(
     curvature: &Curvature,
 ) {
     let face_inset = section.face_inset_m();
-    let mut column = |p: &RimPoint, plane_normal: nalgebra::Vector2<f64>| -> Vec<u32> {
+    let mut column = |p: &RimPoint, plane_normal: Vector2<f64>| -> Vec<u32> {
         let mut ids = Vec::new();
         for sp in section.facets.iter().flatten() {
             // The face boundaries use the rim's exact face point; intermediate insets are

@@ -4,11 +4,12 @@
 //!
 //! Method: every crossing of the rim with a grid line is inserted into the rim first (vertical
 //! lines, then horizontal), so each rim segment lies in one closed cell. The grid is placed in
-//! general position: rim vertices off the grid lines, and every rim vertex on a line crossing it
-//! (no touching, no segment along a line); a placement that fails this is moved and retried.
+//! general position: rim vertices off the lines keep a clearance from them, and the rim crosses
+//! every line it meets (no touching, no segment along a line); a placement that fails this is
+//! shifted and retried.
 //! Then a cell with rim segments is cut into pieces by walking its boundary (the rectangle case
 //! of Weiler–Atherton: from where the rim leaves the cell, go counter-clockwise along the cell
-//! to where it next enters, adding the cell corners passed), and each piece is ear-clipped;
+//! to where it next enters, adding the cell corners passed), and each piece is triangulated;
 //! a cell without rim segments inside the rim gets two triangles. Neighbouring cells see the
 //! same points on their shared side, so the result has no T-junctions, and the rim vertices
 //! are exactly those the edge band uses, so the panel mesh is watertight.
@@ -303,7 +304,7 @@ fn cell_pieces(
             let mut passed: Vec<_> = cell_corners
                 .iter()
                 .map(|(k, ij)| (ahead(&exit, k), *ij))
-                .filter(|(k, _)| before(k, &entry).is_lt() && key_order(&k.1, &exit).is_ne())
+                .filter(|(k, _)| before(k, &entry).is_lt())
                 .collect();
             passed.sort_by(|a, b| before(&a.0, &b.0));
             piece.extend(passed.iter().map(|(_, ij)| corners.get(*ij)));

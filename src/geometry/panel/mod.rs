@@ -97,8 +97,9 @@ pub struct PanelSpec {
     pub curvature: Curvature,
     /// Edge finish cross-section.
     pub edge: EdgeProfile,
-    /// Largest triangle edge on the faces and the largest border-curve segment (m), > 0.
-    /// Sets the chord error of a curved panel: L²/(8R).
+    /// Cell size of the square grid that tessellates the faces (face triangles span at most
+    /// one cell in x and in y, so their edges are at most √2 times this) and the largest
+    /// border-curve segment (m), > 0. Sets the chord error of a curved panel: L²/(8R).
     pub tessellation_m: f64,
 }
 
@@ -159,6 +160,7 @@ pub fn build_panel(spec: &PanelSpec) -> Result<Panel, PanelError> {
         return Err(invalid("corner_radius_mm", message));
     }
     contour::inset(&mut rim, inset).map_err(|message| invalid(section.inset_field(), message))?;
+    let rim = contour::limit_face_segments(&rim, s);
     let patch = face::tessellate(&rim, s).ok_or_else(|| {
         invalid(
             "tessellation_mm",

@@ -10,6 +10,11 @@ use super::*;
 
 const T: f64 = 0.004;
 const S: f64 = 0.005;
+const FLAT: Curvature = Curvature::Flat;
+const GROUND: EdgeProfile = EdgeProfile::FlatGround;
+const BEVEL: f64 = 0.001;
+const ARRIS: EdgeProfile = EdgeProfile::Arrissed { bevel_m: BEVEL };
+const PENCIL: EdgeProfile = EdgeProfile::Pencil;
 
 fn rect(w: f64, h: f64, r: f64) -> Outline {
     Outline::Rectangle {
@@ -17,6 +22,17 @@ fn rect(w: f64, h: f64, r: f64) -> Outline {
         height_m: h,
         corner_radius_m: r,
     }
+}
+
+fn polygon(vertices: &[[f64; 2]], r: f64) -> Outline {
+    Outline::Polygon {
+        vertices_m: vertices.to_vec(),
+        corner_radius_m: r,
+    }
+}
+
+fn bend(radius_m: f64) -> Curvature {
+    Curvature::Cylindrical { radius_m }
 }
 
 /// An L-shape (concave), given clockwise to exercise the normalisation.
@@ -118,14 +134,10 @@ fn check_closed_mesh(panel: &Panel) {
 /// b²/2 triangles, a pencil edge a t/2 × t rectangle less a half disc of radius t/2. Times the
 /// outline length, that is the volume removed (Pappus, to first order in the corner curvature).
 fn profiles() -> [(EdgeProfile, f64); 3] {
-    let b = 0.001;
     [
-        (EdgeProfile::FlatGround, 0.0),
-        (EdgeProfile::Arrissed { bevel_m: b }, b * b),
-        (
-            EdgeProfile::Pencil,
-            (2.0 - PI / 2.0) * (T / 2.0) * (T / 2.0),
-        ),
+        (GROUND, 0.0),
+        (ARRIS, BEVEL * BEVEL),
+        (PENCIL, (2.0 - PI / 2.0) * (T / 2.0) * (T / 2.0)),
     ]
 }
 
@@ -135,22 +147,14 @@ fn rounded_rect_area(w: f64, h: f64, r: f64) -> f64 {
 
 #[test]
 fn flat_rectangle_is_closed_with_exact_volume() {
-    let panel = build(
-        rect(0.55, 0.42, 0.0),
-        EdgeProfile::FlatGround,
-        Curvature::Flat,
-    );
+    let panel = build(rect(0.55, 0.42, 0.0), GROUND, FLAT);
     check_closed_mesh(&panel);
     assert!((volume(&panel.mesh) / (0.55 * 0.42 * T) - 1.0).abs() < 1e-12);
 }
 
 #[test]
 fn flat_rounded_rectangle_has_the_analytic_volume() {
-    let panel = build(
-        rect(0.55, 0.42, 0.03),
-        EdgeProfile::FlatGround,
-        Curvature::Flat,
-    );
+    let panel = build(rect(0.55, 0.42, 0.03), GROUND, FLAT);
     check_closed_mesh(&panel);
     let expected = rounded_rect_area(0.55, 0.42, 0.03) * T;
     assert!((volume(&panel.mesh) / expected - 1.0).abs() < 5e-3);
@@ -158,7 +162,7 @@ fn flat_rounded_rectangle_has_the_analytic_volume() {
 
 #[test]
 fn stadium_with_full_half_circle_ends_is_closed() {
-    let panel = build(rect(0.3, 0.1, 0.05), EdgeProfile::Pencil, Curvature::Flat);
+    let panel = build(rect(0.3, 0.1, 0.05), PENCIL, FLAT);
     check_closed_mesh(&panel);
 }
 
@@ -171,8 +175,9 @@ fn concave_l_shape_is_closed_sharp_and_rounded() {
         let area = area - 4.0 * (1.0 - PI / 4.0) * r * r;
         let perimeter = 1.4 - 6.0 * (2.0 - PI / 2.0) * r;
         for (edge, removed) in profiles() {
-            let panel = build(l_shape(r), edge, Curvature::Flat);
+            let panel = build(l_shape(r), edge, FLAT);
             check_closed_mesh(&panel);
+            check_border_frames(&panel.border);
             let expected = area * T - removed * perimeter;
             assert!(
                 (volume(&panel.mesh) / expected - 1.0).abs() < 1e-3,
@@ -190,7 +195,7 @@ fn arrissed_and_pencil_edges_remove_their_profile_volume() {
         2.0 * (w + h) - (8.0 - 2.0 * PI) * r,
     );
     for (edge, removed) in profiles() {
-        let panel = build(rect(w, h, r), edge, Curvature::Flat);
+        let panel = build(rect(w, h, r), edge, FLAT);
         check_closed_mesh(&panel);
         let v = volume(&panel.mesh);
         assert!((v / (area * T) - 1.0).abs() < 5e-3, "{edge:?}");
@@ -204,13 +209,8 @@ fn arrissed_and_pencil_edges_remove_their_profile_volume() {
 #[test]
 fn curved_panel_is_closed_with_top_face_on_its_cylinder() {
     let radius = 1.5;
-    let bend = Curvature::Cylindrical { radius_m: radius };
-    for edge in [
-        EdgeProfile::FlatGround,
-        EdgeProfile::Arrissed { bevel_m: 0.001 },
-        EdgeProfile::Pencil,
-    ] {
-        let panel = build(rect(0.55, 0.42, 0.02), edge, bend);
+    for edge in [GROUND, ARRIS, PENCIL] {
+        let panel = build(rect(0.55, 0.42, 0.02), edge, bend(radius));
         check_closed_mesh(&panel);
         let mesh = &panel.mesh;
         for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
@@ -224,7 +224,7 @@ fn curved_panel_is_closed_with_top_face_on_its_cylinder() {
             }
         }
         // The bend stretches height h by (R + h)/R: volume = A·(t + t²/(2R)) for a flat edge.
-        if edge == EdgeProfile::FlatGround {
+        if edge == GROUND {
             let expected = rounded_rect_area(0.55, 0.42, 0.02) * (T + T * T / (2.0 * radius));
             assert!((volume(mesh) / expected - 1.0).abs() < 1e-4);
         }
@@ -233,38 +233,26 @@ fn curved_panel_is_closed_with_top_face_on_its_cylinder() {
 
 #[test]
 fn curved_l_shape_is_closed() {
-    let bend = Curvature::Cylindrical { radius_m: 0.3 };
-    check_closed_mesh(&build(l_shape(0.01), EdgeProfile::Pencil, bend));
-    check_closed_mesh(&build(
-        l_shape(0.0),
-        EdgeProfile::Arrissed { bevel_m: 0.0015 },
-        bend,
-    ));
+    check_closed_mesh(&build(l_shape(0.01), PENCIL, bend(0.3)));
+    let wide_arris = EdgeProfile::Arrissed { bevel_m: 0.0015 };
+    check_closed_mesh(&build(l_shape(0.0), wide_arris, bend(0.3)));
 }
 
 #[test]
 fn outlines_on_grid_lines_and_through_grid_corners_are_closed() {
     // Edges at ±55.5 cells lie on the first grid's lines; the hypotenuse y = x runs through its
     // corners; a panel smaller than one cell has no interior corner at all.
-    let diagonal = Outline::Polygon {
-        vertices_m: vec![[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1]],
-        corner_radius_m: 0.0,
-    };
+    let diagonal = polygon(&[[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1]], 0.0);
     let outlines = [rect(0.555, 0.425, 0.0), diagonal, rect(0.003, 0.002, 0.0)];
     for outline in outlines {
-        check_closed_mesh(&build(
-            outline.clone(),
-            EdgeProfile::FlatGround,
-            Curvature::Flat,
-        ));
-        let bend = Curvature::Cylindrical { radius_m: 1.0 };
-        check_closed_mesh(&build(outline, EdgeProfile::FlatGround, bend));
+        check_closed_mesh(&build(outline.clone(), GROUND, FLAT));
+        check_closed_mesh(&build(outline, GROUND, bend(1.0)));
     }
 }
 
 #[test]
 fn face_triangles_span_at_most_one_cell() {
-    let panel = build(rect(0.55, 0.42, 0.02), EdgeProfile::Pencil, Curvature::Flat);
+    let panel = build(rect(0.55, 0.42, 0.02), PENCIL, FLAT);
     let mesh = &panel.mesh;
     for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
         if *part != SurfacePart::Edge {
@@ -289,20 +277,18 @@ fn check_border_frames(border: &BorderCurve) {
         for d in [v.tangent, v.surface_normal, v.outward] {
             assert!((d.norm() - 1.0).abs() < 1e-12);
         }
-        // Counter-clockwise: the tangent follows the vertex order.
+        // Counter-clockwise: the tangent follows the vertex order. Segments stay within the
+        // tessellation length (stretched by (R + t)/R on a bent top face).
         let step = border.vertices[(i + 1) % n].position - v.position;
         assert!(step.dot(&v.tangent) > 0.0);
+        assert!(step.norm() <= S * 1.003);
     }
 }
 
 #[test]
 fn border_curve_is_the_inset_outline_at_the_top_face() {
-    let (w, h, r, b) = (0.55, 0.42, 0.02, 0.001);
-    let panel = build(
-        rect(w, h, r),
-        EdgeProfile::Arrissed { bevel_m: b },
-        Curvature::Flat,
-    );
+    let (w, h, r, b) = (0.55, 0.42, 0.02, BEVEL);
+    let panel = build(rect(w, h, r), ARRIS, FLAT);
     let border = &panel.border;
     let (wi, hi, ri) = (w - 2.0 * b, h - 2.0 * b, r - b);
     let expected = 2.0 * (wi + hi) - (8.0 - 2.0 * PI) * ri;
@@ -326,11 +312,7 @@ fn border_curve_is_the_inset_outline_at_the_top_face() {
 #[test]
 fn border_curve_follows_the_bend() {
     let radius = 1.5;
-    let panel = build(
-        rect(0.55, 0.42, 0.02),
-        EdgeProfile::Pencil,
-        Curvature::Cylindrical { radius_m: radius },
-    );
+    let panel = build(rect(0.55, 0.42, 0.02), PENCIL, bend(radius));
     check_border_frames(&panel.border);
     let axis = Point3::new(0.0, 0.0, -radius);
     for v in &panel.border.vertices {
@@ -353,11 +335,7 @@ fn border_curve_follows_the_bend() {
 
 #[test]
 fn default_side_window_stays_small_and_deterministic() {
-    let s = spec(
-        rect(0.55, 0.42, 0.02),
-        EdgeProfile::Pencil,
-        Curvature::Cylindrical { radius_m: 1.5 },
-    );
+    let s = spec(rect(0.55, 0.42, 0.02), PENCIL, bend(1.5));
     let a = build_panel(&s).unwrap();
     assert!(
         a.mesh.triangle_count() < 100_000,
@@ -369,7 +347,10 @@ fn default_side_window_stays_small_and_deterministic() {
     assert_eq!(a.mesh.triangles, b.mesh.triangles);
 }
 
-fn field_of(s: PanelSpec) -> &'static str {
+/// The field named by the error for the default flat rectangle changed by `tweak`, or "built".
+fn rejected_field(tweak: impl Fn(&mut PanelSpec)) -> &'static str {
+    let mut s = spec(rect(0.55, 0.42, 0.02), GROUND, FLAT);
+    tweak(&mut s);
     match build_panel(&s) {
         Err(PanelError::InvalidParameter { field, .. }) => field,
         Ok(_) => "built",
@@ -378,96 +359,55 @@ fn field_of(s: PanelSpec) -> &'static str {
 
 #[test]
 fn bad_parameters_name_their_scene_field() {
-    let flat = EdgeProfile::FlatGround;
-    let base = spec(rect(0.55, 0.42, 0.02), flat, Curvature::Flat);
-    let with = |f: &dyn Fn(&mut PanelSpec)| {
-        let mut s = base.clone();
-        f(&mut s);
-        field_of(s)
-    };
-    assert_eq!(with(&|s| s.thickness_m = -0.004), "thickness_mm");
-    assert_eq!(with(&|s| s.thickness_m = f64::NAN), "thickness_mm");
-    assert_eq!(with(&|s| s.tessellation_m = 0.0), "tessellation_mm");
-    assert_eq!(with(&|s| s.tessellation_m = 1e-6), "tessellation_mm");
-    assert_eq!(with(&|s| s.outline = rect(0.0, 0.42, 0.0)), "width_mm");
-    assert_eq!(
-        with(&|s| s.outline = rect(0.55, f64::INFINITY, 0.0)),
-        "height_mm"
-    );
-    assert_eq!(
-        with(&|s| s.outline = rect(0.55, 0.42, 0.22)),
-        "corner_radius_mm"
-    );
-    assert_eq!(
-        with(&|s| s.outline = rect(0.55, 0.42, -0.01)),
-        "corner_radius_mm"
-    );
-    assert_eq!(
-        with(&|s| s.curvature = Curvature::Cylindrical { radius_m: -1.5 }),
-        "radius_mm"
-    );
-    // Half-width 0.275 m needs R > 0.175 m.
-    assert_eq!(
-        with(&|s| s.curvature = Curvature::Cylindrical { radius_m: 0.17 }),
-        "radius_mm"
-    );
-    assert_eq!(
-        with(&|s| s.curvature = Curvature::Cylindrical { radius_m: 0.18 }),
-        "built"
-    );
-    assert_eq!(
-        with(&|s| s.edge = EdgeProfile::Arrissed { bevel_m: 0.002 }),
-        "bevel_mm"
-    );
-    let polygon = |v: &[[f64; 2]], r: f64| Outline::Polygon {
-        vertices_m: v.to_vec(),
-        corner_radius_m: r,
-    };
-    assert_eq!(
-        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0]], 0.0)),
-        "vertices_mm"
-    );
-    assert_eq!(
-        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.2, 0.0]], 0.0)),
-        "vertices_mm"
-    );
+    fn expect(field: &str, tweak: impl Fn(&mut PanelSpec)) {
+        assert_eq!(rejected_field(tweak), field);
+    }
+    expect("thickness_mm", |s| s.thickness_m = -0.004);
+    expect("thickness_mm", |s| s.thickness_m = f64::NAN);
+    expect("tessellation_mm", |s| s.tessellation_m = 0.0);
+    expect("tessellation_mm", |s| s.tessellation_m = 1e-6);
+    expect("width_mm", |s| s.outline = rect(0.0, 0.42, 0.0));
+    expect("height_mm", |s| s.outline = rect(0.55, f64::INFINITY, 0.0));
+    expect("corner_radius_mm", |s| s.outline = rect(0.55, 0.42, 0.22));
+    expect("corner_radius_mm", |s| s.outline = rect(0.55, 0.42, -0.01));
+    expect("radius_mm", |s| s.curvature = bend(-1.5));
+    // Half-width 0.275 m needs R > 0.275/(π/2) = 0.175 m.
+    expect("radius_mm", |s| s.curvature = bend(0.17));
+    expect("built", |s| s.curvature = bend(0.18));
+    expect("bevel_mm", |s| {
+        s.edge = EdgeProfile::Arrissed { bevel_m: 0.002 }
+    });
+    expect("vertices_mm", |s| {
+        s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0]], 0.0)
+    });
+    let collinear = [[0.0, 0.0], [0.1, 0.0], [0.2, 0.0]];
+    expect("vertices_mm", |s| s.outline = polygon(&collinear, 0.0));
     let bow_tie = [[0.0, 0.0], [0.1, 0.1], [0.1, 0.0], [0.0, 0.1]];
-    assert_eq!(with(&|s| s.outline = polygon(&bow_tie, 0.0)), "vertices_mm");
-    assert_eq!(
-        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, f64::NAN], [0.0, 0.1]], 0.0)),
-        "vertices_mm"
-    );
-    assert_eq!(
-        with(&|s| s.outline = polygon(&[[0.0, 0.0], [0.1, 0.0], [0.0, 0.1]], 0.05)),
-        "corner_radius_mm"
-    );
+    expect("vertices_mm", |s| s.outline = polygon(&bow_tie, 0.0));
+    let not_finite = [[0.0, 0.0], [0.1, f64::NAN], [0.0, 0.1]];
+    expect("vertices_mm", |s| s.outline = polygon(&not_finite, 0.0));
+    let triangle = [[0.0, 0.0], [0.1, 0.0], [0.0, 0.1]];
+    expect("corner_radius_mm", |s| s.outline = polygon(&triangle, 0.05));
+    expect("built", |s| s.outline = polygon(&triangle, 0.02));
     // A pencil edge insets the faces by t/2 = 2 mm: a 1 mm corner radius cannot carry it, nor
-    // can a sliver 3 mm wide with sharp acute ends.
-    let pencil = |s: &mut PanelSpec| s.edge = EdgeProfile::Pencil;
-    assert_eq!(
-        with(&|s| {
-            pencil(s);
-            s.outline = rect(0.55, 0.42, 0.001)
-        }),
-        "corner_radius_mm"
-    );
-    let sliver = [[0.0, 0.0], [0.2, 0.0], [0.2, 0.003]];
-    assert_eq!(
-        with(&|s| {
-            pencil(s);
-            s.outline = polygon(&sliver, 0.0)
-        }),
-        "thickness_mm"
-    );
+    // can a strip 3 mm wide, nor a sharp 11° corner (its miter exceeds the limit).
+    let pencil = PENCIL;
+    expect("corner_radius_mm", |s| {
+        (s.edge, s.outline) = (pencil, rect(0.55, 0.42, 0.001))
+    });
+    expect("thickness_mm", |s| {
+        (s.edge, s.outline) = (pencil, rect(0.2, 0.003, 0.0))
+    });
+    let spike = [[0.0, 0.0], [0.1, 0.0], [0.0, 0.02]];
+    expect("thickness_mm", |s| {
+        (s.edge, s.outline) = (pencil, polygon(&spike, 0.0))
+    });
+    expect("built", |s| s.edge = pencil);
 }
 
 #[test]
 fn error_message_says_expected_and_got() {
-    let mut s = spec(
-        rect(0.55, 0.42, 0.0),
-        EdgeProfile::FlatGround,
-        Curvature::Flat,
-    );
+    let mut s = spec(rect(0.55, 0.42, 0.0), GROUND, FLAT);
     s.thickness_m = -0.004;
     let err = build_panel(&s).unwrap_err();
     assert_eq!(err.to_string(), "thickness_mm must be > 0, got -0.004 m");
