@@ -19,6 +19,7 @@ mod error;
 mod file;
 pub mod gltf_mesh;
 mod load;
+mod material;
 mod sensor_overrides;
 pub mod world;
 
