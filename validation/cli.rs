@@ -148,8 +148,15 @@ fn bad_input_exits_with_code_2_and_a_clear_message() {
             "--seed",
         ),
         (
-            &["scan", "scenes/flat_panel.toml", "--out", s(&out)],
-            "glass",
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--max-depth",
+                "0",
+            ],
+            "--max-depth",
         ),
     ];
     for (args, needle) in cases {

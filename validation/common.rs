@@ -7,7 +7,7 @@ use glassscan::geometry::pose::{pose_from_mm_deg, Pose};
 use glassscan::scan::poses::ScanPose;
 use glassscan::scan::simulate::{simulate_pose, PoseResult};
 use glassscan::scan::ScanConfig;
-use glassscan::scene::world::{Material, NamedMaterial, Object, World};
+use glassscan::scene::world::{Material, NamedMaterial, Object, ObjectLabel, World};
 use glassscan::sensor::preset::scancontrol_2600_100;
 use glassscan::sensor::SensorHead;
 use glassscan::transport::{TraceScene, TraceSettings};
@@ -49,6 +49,7 @@ pub fn world_of_boxes(boxes: &[BoxSpec]) -> World {
                 mesh: cuboid(b.size_mm.map(|v| v * 1e-3)),
                 pose: pose_from_mm_deg(b.translation_mm, b.rotation_deg),
                 material: i,
+                label: ObjectLabel::Other,
             })
             .collect(),
         materials: boxes
@@ -129,4 +130,37 @@ pub fn valid_points(r: &PoseResult) -> Vec<(f64, f64)> {
         .filter(|p| p.valid)
         .map(|p| (p.x_mm, p.z_mm))
         .collect()
+}
+
+/// Adds a glass box (polished on every face, no imperfections unless given) to `world`.
+pub fn add_glass_box(
+    world: &mut World,
+    size_mm: [f64; 3],
+    translation_mm: [f64; 3],
+    rotation_deg: [f64; 3],
+    glass: glassscan::scene::world::GlassSpec,
+) {
+    world.materials.push(NamedMaterial {
+        name: "glass".into(),
+        material: Material::Glass(glass),
+    });
+    world.objects.push(Object {
+        name: "pane".into(),
+        mesh: cuboid(size_mm.map(|v| v * 1e-3)),
+        pose: pose_from_mm_deg(translation_mm, rotation_deg),
+        material: world.materials.len() - 1,
+        label: ObjectLabel::Other,
+    });
+}
+
+/// Clear soda-lime glass with the given index and absorption, no imperfections, smooth edges.
+pub fn clear_glass(ior: f64, absorption_per_m: f64) -> glassscan::scene::world::GlassSpec {
+    glassscan::scene::world::GlassSpec {
+        ior: Some(ior),
+        cauchy: None,
+        sellmeier: None,
+        absorption_per_m,
+        face_imperfection: 0.0,
+        edge_roughness: 0.0,
+    }
 }

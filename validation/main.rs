@@ -6,3 +6,4 @@ mod cli;
 mod common;
 mod physics;
 mod scenes;
+mod stats;

@@ -14,7 +14,7 @@ use crate::scan::simulate::simulate_pose;
 use crate::scan::ScanConfig;
 use crate::scene;
 use crate::sensor::SensorHead;
-use crate::transport::{TraceScene, TraceSettings};
+use crate::transport::{PathClass, TraceScene, TraceSettings};
 
 /// Arguments of `glassscan scan`.
 #[derive(Debug, Args)]
@@ -39,8 +39,8 @@ pub struct ScanArgs {
     /// Laser photons traced per pose (≥ 1000).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
-    /// Longest photon path, in scattering vertices (≥ 1).
-    #[arg(long, value_name = "D", default_value_t = 16)]
+    /// Longest photon path, in surface interactions including specular ones (≥ 1).
+    #[arg(long, value_name = "D", default_value_t = 64)]
     pub max_depth: u32,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long, value_name = "T")]
@@ -164,12 +164,26 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
             *v <<= bits_shift;
         }
         png16::write_png16(&cfg.out.join(&png), &shifted).map_err(CliError::internal)?;
-        let irradiance_f32: Vec<f32> = result.irradiance.data.iter().map(|&v| v as f32).collect();
+        let to_f32 = |img: &crate::sensor::image::Image<f64>| -> Vec<f32> {
+            img.data.iter().map(|&v| v as f32).collect()
+        };
+        let total = to_f32(&result.irradiance.total);
+        let classes: Vec<(String, Vec<f32>)> = PathClass::ALL
+            .iter()
+            .map(|c| {
+                (
+                    format!("class.{}", c.name()),
+                    to_f32(&result.irradiance.by_class[c.index()]),
+                )
+            })
+            .collect();
+        let mut layers: Vec<(&str, &[f32])> = vec![("irradiance", &total)];
+        layers.extend(classes.iter().map(|(n, d)| (n.as_str(), d.as_slice())));
         exr::write_exr_layers(
             &cfg.out.join(&exr_name),
-            result.irradiance.width,
-            result.irradiance.height,
-            &[("irradiance", &irradiance_f32)],
+            result.irradiance.total.width,
+            result.irradiance.total.height,
+            &layers,
         )
         .map_err(CliError::internal)?;
         profile_csv::write_profile_csv(&cfg.out.join(&csv), &result.profile)
@@ -181,7 +195,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
                 FileEntry::new(
                     "irradiance",
                     &exr_name,
-                    "EXR, f32 channel `irradiance` in W/m²",
+                    "EXR, f32 channels in W/m²: `irradiance` (total) and `class.<path class>`",
                 ),
                 FileEntry::new("profile", &csv, "CSV profile in the sensor frame, mm"),
             ],

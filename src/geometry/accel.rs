@@ -188,10 +188,13 @@ impl SceneAccel {
         })
     }
 
+    /// Completes a hit found in f32 by the BVH: the distance, point and barycentrics are
+    /// recomputed in f64 against the triangle's f64 vertices, so hit points are exact to f64
+    /// rounding (what finite differences of connection paths through glass need).
     fn make_hit(
         &self,
         tri: u32,
-        t: f64,
+        t_f32: f64,
         origin: &Point3<f64>,
         dir: &Vector3<f64>,
         u: f32,
@@ -199,8 +202,29 @@ impl SceneAccel {
     ) -> Hit {
         let st = &self.input[tri as usize];
         let [a, b, c] = st.vertices;
-        let geometric_normal = (b - a).cross(&(c - a)).normalize();
-        let (u, v) = (u as f64, v as f64);
+        let (e1, e2) = (b - a, c - a);
+        let cross = e1.cross(&e2);
+        let geometric_normal = cross.normalize();
+        let denom = dir.dot(&cross);
+        let (t, u, v) = if denom.abs() > 1e-12 * cross.norm() {
+            // Möller–Trumbore in f64 on the same triangle.
+            let t = (a - origin).dot(&cross) / denom;
+            let p = origin + dir * t;
+            let w = p - a;
+            let d00 = e1.dot(&e1);
+            let d01 = e1.dot(&e2);
+            let d11 = e2.dot(&e2);
+            let d20 = w.dot(&e1);
+            let d21 = w.dot(&e2);
+            let det = d00 * d11 - d01 * d01;
+            (
+                t,
+                (d11 * d20 - d01 * d21) / det,
+                (d00 * d21 - d01 * d20) / det,
+            )
+        } else {
+            (t_f32, u as f64, v as f64)
+        };
         let shading_normal = match &st.normals {
             Some([na, nb, nc]) => {
                 let n = na * (1.0 - u - v) + nb * u + nc * v;

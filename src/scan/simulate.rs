@@ -4,15 +4,15 @@ use super::poses::ScanPose;
 use crate::sensor::image::Image;
 use crate::sensor::profile::{extract, ExtractSettings, Profile};
 use crate::sensor::SensorHead;
-use crate::transport::{render, TraceScene, TraceSettings, TraceStats};
+use crate::transport::{render, Irradiance, TraceScene, TraceSettings, TraceStats};
 
 /// Everything the sensor produced at one pose.
 #[derive(Clone, Debug)]
 pub struct PoseResult {
     /// The pose.
     pub pose: ScanPose,
-    /// Irradiance on the image plane (W/m²).
-    pub irradiance: Image<f64>,
+    /// Irradiance on the image plane (W/m²), in total and per path class.
+    pub irradiance: Irradiance,
     /// Digital image (DN, `imager.adc_bits` wide).
     pub image: Image<u16>,
     /// The extracted profile.
@@ -31,7 +31,7 @@ pub fn simulate_pose(
     let (irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
     let cfg = &head.config;
     let image = cfg.imager.expose(
-        &irradiance,
+        &irradiance.total,
         head.camera.pixel_area(),
         cfg.laser.wavelength_m,
     );

@@ -89,6 +89,8 @@ pub(crate) struct ObjectDef {
     #[serde(rename = "box")]
     pub cuboid: Option<Spanned<BoxDef>>,
     pub mesh: Option<Spanned<MeshDef>>,
+    /// Role of the object for path labels (`table`, `background`, `tape`, `cover`, `other`).
+    pub label: Option<Spanned<LabelDef>>,
 }
 
 /// A pose: translation (mm) and fixed-axis x, y, z angles (deg), R = Rz·Ry·Rx.
@@ -180,6 +182,7 @@ pub(crate) struct SensorDef {
     pub waist_distance_mm: Option<Num>,
     pub m_squared: Option<Num>,
     pub line_profile: Option<Spanned<LineProfileDef>>,
+    pub polarization: Option<Spanned<PolarizationDef>>,
     pub z_min_mm: Option<Num>,
     pub z_max_mm: Option<Num>,
     pub x_width_mm: Option<Num>,
@@ -196,6 +199,25 @@ pub(crate) struct SensorDef {
 pub(crate) enum LineProfileDef {
     Uniform,
     Gaussian { half_angle_1e2_deg: Num },
+}
+
+/// Polarisation of the laser: `"unpolarized"` or `{ linear = { angle_deg = 90 } }`.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub(crate) enum PolarizationDef {
+    Unpolarized,
+    Linear { angle_deg: Num },
+}
+
+/// What an opaque object is, for the path labels of its returns.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum LabelDef {
+    Table,
+    Background,
+    Tape,
+    Cover,
+    Other,
 }
 
 /// `[sensor.camera]` overrides.

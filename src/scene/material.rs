@@ -137,10 +137,23 @@ pub(super) fn material(
                 }
                 None => None,
             };
-            let law_span = (d.cauchy.as_ref().map(Spanned::span))
-                .or_else(|| d.sellmeier.as_ref().map(Spanned::span));
-            let index = dispersion_index(&cauchy, &sellmeier, wavelength_m);
-            if let (Some((law, n)), Some(span)) = (index, law_span) {
+            let spec = GlassSpec {
+                ior,
+                cauchy,
+                sellmeier,
+                absorption_per_m: src.non_negative(&absorption, &field("absorption_per_mm"))? * 1e3,
+                face_imperfection: src.number(
+                    &imperfection,
+                    &field("face_imperfection"),
+                    |f| (0.0..1.0).contains(&f),
+                    "must be in [0, 1)",
+                )?,
+                edge_roughness: src.non_negative(&roughness, &field("edge_roughness"))?,
+            };
+            let law = (d.cauchy.as_ref().map(|c| ("cauchy", c.span())))
+                .or_else(|| d.sellmeier.as_ref().map(|c| ("sellmeier", c.span())));
+            if let Some((law, span)) = law {
+                let n = spec.index_at(wavelength_m);
                 if !(n.is_finite() && n >= 1.0) {
                     return Err(src.invalid(
                         &span,
@@ -153,39 +166,7 @@ pub(super) fn material(
                     ));
                 }
             }
-            Ok(Material::Glass(GlassSpec {
-                ior,
-                cauchy,
-                sellmeier,
-                absorption_per_m: src.non_negative(&absorption, &field("absorption_per_mm"))? * 1e3,
-                face_imperfection: src.number(
-                    &imperfection,
-                    &field("face_imperfection"),
-                    |f| (0.0..1.0).contains(&f),
-                    "must be in [0, 1)",
-                )?,
-                edge_roughness: src.non_negative(&roughness, &field("edge_roughness"))?,
-            }))
+            Ok(Material::Glass(spec))
         }
-    }
-}
-
-/// The index a dispersion law gives at `wavelength_m`, with the law's key:
-/// n = A + B/λ² + C/λ⁴ + D/λ⁶ (Cauchy) or n² = 1 + Σ Bᵢλ²/(λ² − Cᵢ) (Sellmeier), λ in µm
-/// (NaN where n² < 0).
-fn dispersion_index(
-    cauchy: &Option<Vec<f64>>,
-    sellmeier: &Option<([f64; 3], [f64; 3])>,
-    wavelength_m: f64,
-) -> Option<(&'static str, f64)> {
-    let l2 = (wavelength_m * 1e6).powi(2);
-    if let Some(c) = cauchy {
-        let n = c.iter().zip(0..).map(|(a, k)| a / l2.powi(k)).sum();
-        Some(("cauchy", n))
-    } else if let Some((b, c)) = sellmeier {
-        let n2 = 1.0 + (0..3).map(|k| b[k] * l2 / (l2 - c[k])).sum::<f64>();
-        Some(("sellmeier", if n2 >= 0.0 { n2.sqrt() } else { f64::NAN }))
-    } else {
-        None
     }
 }

@@ -8,10 +8,10 @@ use std::ops::Range;
 use serde_spanned::Spanned;
 
 use super::error::{SceneError, SceneSource};
-use super::file::{CameraDef, ImagerDef, LineProfileDef, SensorDef};
+use super::file::{CameraDef, ImagerDef, LineProfileDef, PolarizationDef, SensorDef};
 use crate::sensor::camera::Camera;
 use crate::sensor::preset;
-use crate::sensor::projector::LineProfile;
+use crate::sensor::projector::{LineProfile, Polarization};
 use crate::sensor::SensorConfig;
 
 /// The preset named by `sensor.preset`, with the file's overrides applied and checked.
@@ -71,6 +71,21 @@ pub(crate) fn resolve_sensor(
                     half_angle_1e2_rad: deg.to_radians(),
                 }
             }
+        };
+    }
+    if let Some(p) = &def.polarization {
+        laser.polarization = match p.get_ref() {
+            PolarizationDef::Unpolarized => Polarization::Unpolarized,
+            PolarizationDef::Linear { angle_deg } => Polarization::Linear {
+                angle_rad: src
+                    .number(
+                        angle_deg,
+                        "sensor.polarization.linear.angle_deg",
+                        |d| d.abs() <= 360.0,
+                        "must be within ±360 degrees",
+                    )?
+                    .to_radians(),
+            },
         };
     }
 

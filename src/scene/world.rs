@@ -26,6 +26,30 @@ pub struct GlassSpec {
     pub edge_roughness: f64,
 }
 
+impl GlassSpec {
+    /// Refractive index at vacuum wavelength `wavelength_m`: the given `ior`, or the Cauchy law
+    /// n = A + B/λ² + C/λ⁴ + … or the Sellmeier law n² = 1 + Σ Bᵢλ²/(λ² − Cᵢ), λ in µm
+    /// (NaN where n² < 0; the scene loader checks that exactly one law is given and that it
+    /// yields n ≥ 1).
+    pub fn index_at(&self, wavelength_m: f64) -> f64 {
+        let l2 = (wavelength_m * 1e6).powi(2);
+        if let Some(n) = self.ior {
+            n
+        } else if let Some(c) = &self.cauchy {
+            c.iter().zip(0..).map(|(a, k)| a / l2.powi(k)).sum()
+        } else if let Some((b, c)) = &self.sellmeier {
+            let n2 = 1.0 + (0..3).map(|k| b[k] * l2 / (l2 - c[k])).sum::<f64>();
+            if n2 >= 0.0 {
+                n2.sqrt()
+            } else {
+                f64::NAN
+            }
+        } else {
+            f64::NAN
+        }
+    }
+}
+
 /// A material, by kind.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 #[serde(rename_all = "snake_case", tag = "kind")]
@@ -48,6 +72,24 @@ pub struct NamedMaterial {
     pub material: Material,
 }
 
+/// What an object is, for the path labels of the light it returns (glass objects are labelled
+/// by their surface part instead).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ObjectLabel {
+    /// The table the target lies on.
+    Table,
+    /// A background surface (wall, floor) seen beyond the target.
+    Background,
+    /// Tape laid over the glass border (the paper's edge experiment, step 1).
+    Tape,
+    /// A cover block on the glass surface (edge experiment, step 2).
+    Cover,
+    /// Anything else.
+    #[default]
+    Other,
+}
+
 /// One object of the scene.
 #[derive(Clone, Debug)]
 pub struct Object {
@@ -59,6 +101,8 @@ pub struct Object {
     pub pose: Pose,
     /// Index into `World::materials`.
     pub material: usize,
+    /// Role for path labels.
+    pub label: ObjectLabel,
 }
 
 /// The object whose border is scanned and located (the glass panel or its opaque copy).

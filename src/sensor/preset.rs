@@ -2,7 +2,7 @@
 
 use super::camera::CameraSpec;
 use super::imager::ImagerSpec;
-use super::projector::{LaserSheet, LineProfile};
+use super::projector::{LaserSheet, LineProfile, Polarization};
 use super::{MeasuringRange, SensorConfig};
 
 /// Names accepted by [`by_name`].
@@ -22,7 +22,9 @@ pub fn by_name(name: &str) -> Option<SensorConfig> {
 ///   `PRANGE`, M–H); 640 points per profile (§1a SDK, H); 658 nm (paper, H).
 /// - Laser power 8 mW (class 2M, §1c, L). Waist 1/e² full width 0.35 mm at 257.5 mm, the
 ///   Gaussian optimum over the range (§4, derived, M). Fan 24° (not published; chosen to cover
-///   the camera field, L). Uniform (Powell) line (§4, H for the lens type).
+///   the camera field, L). Uniform (Powell) line (§4, H for the lens type). Linearly polarised
+///   along the line (x): laser diodes emit linearly polarised light (L for the axis: not
+///   published for the scanCONTROL; the scene file can set any axis or unpolarised).
 /// - Camera: not published. Base 100 mm (triangulation angle 21° at mid-range, inside the
 ///   20–35° band of §1c, L); f = 16 mm, f/2.8; 640 × 832 pixels of 9.4 µm, sized so that the
 ///   columns cover ±71.75 mm at z = 390 mm and the rows cover 125–390 mm (derived).
@@ -40,6 +42,7 @@ pub fn scancontrol_2600_100() -> SensorConfig {
             waist_distance_m: 0.2575,
             m_squared: 1.0,
             line_profile: LineProfile::Uniform,
+            polarization: Polarization::Linear { angle_rad: 0.0 },
         },
         camera: CameraSpec {
             baseline_m: 0.100,

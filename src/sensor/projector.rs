@@ -20,6 +20,20 @@ pub enum LineProfile {
     },
 }
 
+/// Polarisation state of the laser light.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Polarization {
+    /// Linearly polarised, the electric field along the direction at `angle_rad` from the
+    /// sensor's x axis (along the line) towards its y axis, projected across each fan ray.
+    Linear {
+        /// Angle of the polarisation axis from x towards y (rad).
+        angle_rad: f64,
+    },
+    /// Unpolarised light.
+    Unpolarized,
+}
+
 /// Parameters of the laser sheet.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct LaserSheet {
@@ -37,6 +51,8 @@ pub struct LaserSheet {
     pub m_squared: f64,
     /// Intensity distribution along the line.
     pub line_profile: LineProfile,
+    /// Polarisation of the emitted light.
+    pub polarization: Polarization,
 }
 
 use nalgebra::{Point3, Vector3};

@@ -1,17 +1,29 @@
-//! The film: flux splats collected per chunk of photons, summed in chunk order.
+//! The film: flux splats collected per chunk of photons, summed in chunk order, per path class.
 
+use super::path::PathClass;
 use crate::sensor::image::Image;
 
-/// Flux deposited on one pixel by one camera connection.
+/// Flux deposited on one pixel by one camera connection or glint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Splat {
     /// Row-major pixel index.
     pub pixel: u32,
+    /// What produced it.
+    pub class: PathClass,
     /// Flux (W).
     pub flux: f64,
 }
 
-/// Sums chunks of splats, in the order given, into an irradiance image (W/m²).
+/// Irradiance on the image plane, in total and per path class (W/m²).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Irradiance {
+    /// The sum of all classes.
+    pub total: Image<f64>,
+    /// One image per class, in [`PathClass::ALL`] order.
+    pub by_class: Vec<Image<f64>>,
+}
+
+/// Sums chunks of splats, in the order given, into irradiance images (W/m²).
 ///
 /// The order of summation is the chunk order, never the order threads finish in, so the
 /// result is bit-identical for any thread count.
@@ -20,15 +32,19 @@ pub fn develop<'a>(
     height: usize,
     pixel_area_m2: f64,
     chunks: impl IntoIterator<Item = &'a [Splat]>,
-) -> Image<f64> {
-    let mut img = Image::<f64>::new(width, height);
+) -> Irradiance {
+    let mut total = Image::<f64>::new(width, height);
+    let mut by_class = vec![Image::<f64>::new(width, height); PathClass::ALL.len()];
     for chunk in chunks {
         for s in chunk {
-            img.data[s.pixel as usize] += s.flux;
+            total.data[s.pixel as usize] += s.flux;
+            by_class[s.class.index()].data[s.pixel as usize] += s.flux;
         }
     }
-    for v in &mut img.data {
-        *v /= pixel_area_m2;
+    for img in std::iter::once(&mut total).chain(by_class.iter_mut()) {
+        for v in &mut img.data {
+            *v /= pixel_area_m2;
+        }
     }
-    img
+    Irradiance { total, by_class }
 }

@@ -1,24 +1,42 @@
 //! Light transport: laser photons traced from the projector through the scene, connected to
-//! the camera aperture at every diffuse vertex, splatted onto the image plane as flux.
+//! the camera aperture at every non-specular vertex, splatted onto the image plane as flux.
 //!
-//! Method (this issue: opaque Lambertian scenes). A light tracer with next-event estimation to
-//! the lens: each photon carries Φ = P/N watts; at every diffuse vertex x a point L of the
-//! aperture disk (area A) is sampled uniformly and, if the segment x → L is unoccluded, the flux
-//! Φ·(ρ/π)·cos θ_x·cos θ_L·A/|x − L|² is splatted at the point where the thin-lens ray from x
-//! through L meets the Scheimpflug image plane; then the photon continues in a cosine-sampled
-//! direction with Russian roulette (survival probability ρ, so Φ stays constant). The estimator
-//! is unbiased for the flux per pixel; irradiance = flux / pixel area. Photons are traced up to
-//! `max_depth` vertices; the light dropped at the cap (ρ^depth of the photon's power on average)
-//! is the only bias and is reported in the statistics.
+//! Method: a light tracer (particle tracing) with next-event estimation to the lens.
+//! - Each photon carries Φ = P/N watts and a Stokes vector (laser polarisation).
+//! - Smooth glass faces split it by the polarisation-aware Fresnel equations (the choice of
+//!   reflection or transmission has the probability of the Mueller-transformed intensity, so Φ
+//!   is kept); Snell refraction, total internal reflection and Beer–Lambert absorption along
+//!   every segment inside glass. A fraction `face_imperfection` of face interactions scatters
+//!   diffusely instead (dust, micro-defects).
+//! - Rough glass edges scatter by a GGX microfacet dielectric (reflection and transmission,
+//!   Walter et al. 2007), with the Fresnel factor of the sampled microfacet applied to the
+//!   Stokes vector.
+//! - At every non-specular vertex x (Lambertian surface, face imperfection, rough edge) a point
+//!   L of the aperture is sampled uniformly and the vertex is connected to it (`connect`):
+//!   straight if nothing is in the way, otherwise through the glass by a Newton-solved chain of
+//!   refractions; the flux Φ·f·|cos θ_x|·A·(dω/dA_L)·T_chain is deposited where the thin lens
+//!   sends the arriving ray on the Scheimpflug image plane.
+//! - A photon whose path so far is purely specular and that enters the aperture deposits its
+//!   flux there: a glint.
+//! - Diffuse vertices continue with cosine sampling and Russian roulette on the albedo.
+//!
+//! Bias: the path-length cap `max_depth` (reported as `truncated_power_w`), and the connection
+//! chains' limits stated in `connect` (only transmitted chains from two seeds).
 //!
 //! Determinism: every random number is a function of (seed, pose, photon, dimension); photons
-//! are processed in fixed-size chunks whose splats are summed in chunk order, so the image is
-//! bit-identical for any thread count.
+//! are processed in fixed-size chunks whose splats are summed in chunk order, so the images
+//! are bit-identical for any thread count.
 
+pub mod connect;
 pub mod film;
+pub mod interaction;
+pub mod lens;
+pub mod path;
 pub mod sampler;
 pub mod scene;
 pub mod trace;
 
+pub use film::Irradiance;
+pub use path::PathClass;
 pub use scene::{TraceScene, TransportError};
 pub use trace::{render, TraceSettings, TraceStats};

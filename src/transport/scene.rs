@@ -1,28 +1,13 @@
-//! The scene as the tracer sees it: all triangles in the base frame in one BVH, and the
-//! surface model of every material.
+//! The scene as the tracer sees it: all triangles in the base frame in one BVH, the surface
+//! model of every material at the laser wavelength, and each object's label.
 
 use crate::geometry::accel::{SceneAccel, SceneTriangle};
 use crate::optics::lambert::Lambertian;
-use crate::scene::world::{Material, World};
+use crate::scene::world::{Material, ObjectLabel, World};
 
 /// Why a world cannot be traced.
 #[derive(Debug, thiserror::Error)]
 pub enum TransportError {
-    /// The scene uses a material whose light transport does not exist yet.
-    #[error(
-        "{scene}: object `{object}` uses material `{material}` (kind = \"glass\"), which cannot \
-         be simulated yet: the glass light transport (Fresnel, refraction, rough edges) is \
-         issue #3. The scene file itself is valid; use an opaque scene such as \
-         scenes/flat_opaque.toml meanwhile"
-    )]
-    UnsupportedMaterial {
-        /// The scene file.
-        scene: String,
-        /// The object that uses it.
-        object: String,
-        /// The material's name.
-        material: String,
-    },
     /// The scene has no triangles.
     #[error("{scene}: the scene has no triangles to trace")]
     Empty {
@@ -31,11 +16,27 @@ pub enum TransportError {
     },
 }
 
+/// Glass at the laser wavelength.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlassSurface {
+    /// Refractive index n (glass relative to the surrounding air).
+    pub eta: f64,
+    /// Beer–Lambert absorption coefficient (1/m).
+    pub absorption_per_m: f64,
+    /// Probability that a face interaction scatters diffusely (imperfections) instead of
+    /// following Fresnel's law.
+    pub face_imperfection: f64,
+    /// GGX roughness α of the ground edge; 0 makes the edge as smooth as the faces.
+    pub edge_alpha: f64,
+}
+
 /// How a surface scatters light.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SurfaceModel {
     /// Ideal diffuse reflector.
     Lambertian(Lambertian),
+    /// Glass: smooth faces with imperfections, rough edges, absorbing bulk.
+    Glass(GlassSurface),
 }
 
 /// Triangles, BVH and surface models, ready for tracing.
@@ -44,32 +45,33 @@ pub struct TraceScene {
     pub accel: SceneAccel,
     /// Surface model per world material index.
     pub surfaces: Vec<SurfaceModel>,
+    /// Label per world object index.
+    pub labels: Vec<ObjectLabel>,
 }
 
 impl TraceScene {
-    /// Places every object at its true pose and builds the BVH.
+    /// Places every object at its true pose, resolves materials at `wavelength_m` and builds the
+    /// BVH.
     pub fn new(world: &World) -> Result<TraceScene, TransportError> {
         let scene = world.source.display().to_string();
-        let mut surfaces = Vec::with_capacity(world.materials.len());
-        for m in &world.materials {
-            surfaces.push(match &m.material {
+        let wavelength_m = world.sensor.laser.wavelength_m;
+        let surfaces = world
+            .materials
+            .iter()
+            .map(|m| match &m.material {
                 Material::Lambertian { albedo } => {
                     SurfaceModel::Lambertian(Lambertian { albedo: *albedo })
                 }
-                // Refused below, if an object uses it; an unused glass material is harmless.
-                Material::Glass(_) => SurfaceModel::Lambertian(Lambertian { albedo: 0.0 }),
-            });
-        }
+                Material::Glass(g) => SurfaceModel::Glass(GlassSurface {
+                    eta: g.index_at(wavelength_m),
+                    absorption_per_m: g.absorption_per_m,
+                    face_imperfection: g.face_imperfection,
+                    edge_alpha: g.edge_roughness,
+                }),
+            })
+            .collect();
         let mut triangles = Vec::new();
         for (k, object) in world.objects.iter().enumerate() {
-            let named = &world.materials[object.material];
-            if matches!(named.material, Material::Glass(_)) {
-                return Err(TransportError::UnsupportedMaterial {
-                    scene,
-                    object: object.name.clone(),
-                    material: named.name.clone(),
-                });
-            }
             let mesh = object.mesh.transformed(&object.pose);
             for (i, tri) in mesh.triangles.iter().enumerate() {
                 let idx = tri.map(|v| v as usize);
@@ -88,6 +90,15 @@ impl TraceScene {
         Ok(TraceScene {
             accel: SceneAccel::build(triangles),
             surfaces,
+            labels: world.objects.iter().map(|o| o.label).collect(),
         })
+    }
+
+    /// The glass surface model of material `m`, if it is glass.
+    pub fn glass(&self, material: u32) -> Option<&GlassSurface> {
+        match &self.surfaces[material as usize] {
+            SurfaceModel::Glass(g) => Some(g),
+            SurfaceModel::Lambertian(_) => None,
+        }
     }
 }

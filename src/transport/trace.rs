@@ -3,12 +3,20 @@
 use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
-use super::film::{develop, Splat};
+use super::connect::connect;
+use super::film::{develop, Irradiance, Splat};
+use super::interaction::{scatter_rough, scatter_smooth, RoughVertex, SmoothOutcome};
+use super::lens::Aperture;
+use super::path::PathClass;
 use super::sampler::PoseSampler;
-use super::scene::{SurfaceModel, TraceScene};
+use super::scene::{GlassSurface, SurfaceModel, TraceScene};
+use crate::geometry::accel::Hit;
+use crate::geometry::mesh::SurfacePart;
 use crate::geometry::pose::Pose;
+use crate::optics::lambert::Lambertian;
+use crate::optics::polarization::Stokes;
 use crate::optics::warp::concentric_disk;
-use crate::sensor::image::Image;
+use crate::sensor::projector::Polarization;
 use crate::sensor::SensorHead;
 
 /// Photons per work unit. Fixed (not derived from the thread count) so that results do not
@@ -17,7 +25,7 @@ const CHUNK: u64 = 4096;
 
 /// Offset of secondary ray origins along the geometric normal (m): well above the f32
 /// resolution of the base frame (~0.1 µm at 1 m) and far below any feature size.
-const RAY_EPSILON_M: f64 = 2e-6;
+pub(super) const RAY_EPSILON_M: f64 = 2e-6;
 
 /// Longest ray considered (m).
 const FAR_M: f64 = 100.0;
@@ -27,7 +35,7 @@ const FAR_M: f64 = 100.0;
 pub struct TraceSettings {
     /// Laser photons per pose, ≥ 1.
     pub photons: u64,
-    /// Largest number of scattering vertices per photon path (≥ 1).
+    /// Largest number of surface interactions per photon path (≥ 1), specular ones included.
     pub max_depth: u32,
     /// Master seed.
     pub seed: u64,
@@ -40,21 +48,32 @@ pub struct TraceStats {
     pub photons: u64,
     /// Laser photons whose first ray hit the scene.
     pub laser_hits: u64,
-    /// Scattering vertices (all depths).
+    /// Surface interactions (all depths, specular included).
     pub vertices: u64,
+    /// Fresnel reflections at smooth glass.
+    pub reflections: u64,
+    /// Refractions at smooth glass.
+    pub refractions: u64,
+    /// Total internal reflections.
+    pub tir: u64,
     /// Camera connections attempted (vertex facing the sampled lens point).
     pub connections: u64,
-    /// Connections blocked by geometry (camera-side shadows).
+    /// Connections through glass (solved specular chains).
+    pub connections_through_glass: u64,
+    /// Connections that found no unblocked path (camera-side shadows).
     pub occluded: u64,
-    /// Unblocked connections that landed off the pixel grid.
+    /// Contributions that landed off the pixel grid.
     pub off_sensor: u64,
+    /// Photons that entered the aperture along a purely specular chain (glints).
+    pub glints: u64,
     /// Paths stopped at `max_depth` while still carrying power.
     pub truncated: u64,
     /// Total flux splatted on the sensor (W).
     pub flux_on_sensor_w: f64,
-    /// Power of paths stopped at `max_depth` (W): the truncation bias, an upper bound on the
-    /// flux they could still have sent anywhere.
+    /// Power of paths stopped at `max_depth` (W): an upper bound on the truncation bias.
     pub truncated_power_w: f64,
+    /// Power absorbed in glass (W).
+    pub absorbed_w: f64,
 }
 
 impl TraceStats {
@@ -62,49 +81,53 @@ impl TraceStats {
         self.photons += o.photons;
         self.laser_hits += o.laser_hits;
         self.vertices += o.vertices;
+        self.reflections += o.reflections;
+        self.refractions += o.refractions;
+        self.tir += o.tir;
         self.connections += o.connections;
+        self.connections_through_glass += o.connections_through_glass;
         self.occluded += o.occluded;
         self.off_sensor += o.off_sensor;
+        self.glints += o.glints;
         self.truncated += o.truncated;
         self.flux_on_sensor_w += o.flux_on_sensor_w;
         self.truncated_power_w += o.truncated_power_w;
+        self.absorbed_w += o.absorbed_w;
     }
 }
 
-/// Dimensions of the keyed sampler used per vertex beyond the first (lens u, v; direction u, v;
-/// roulette).
-const DIMS_PER_BOUNCE: u32 = 8;
+/// Sampler dimensions used per surface interaction beyond the laser's own.
+const DIMS_PER_VERTEX: u32 = 8;
 
-/// Renders the irradiance image (W/m²) that the sensor at `sensor_pose` (T_BS) sees.
-/// `pose_index` keys the random numbers, so poses are independent and reproducible.
+/// Renders the irradiance images (W/m², total and per path class) that the sensor at
+/// `sensor_pose` (T_BS) sees. `pose_index` keys the random numbers.
 pub fn render(
     scene: &TraceScene,
     head: &SensorHead,
     sensor_pose: &Pose,
     settings: &TraceSettings,
     pose_index: u64,
-) -> (Image<f64>, TraceStats) {
+) -> (Irradiance, TraceStats) {
     let sampler = PoseSampler::new(settings.seed, pose_index);
     let chunks = settings.photons.div_ceil(CHUNK);
     let results: Vec<(Vec<Splat>, TraceStats)> = (0..chunks)
         .into_par_iter()
         .map(|c| {
-            let mut splats = Vec::new();
-            let mut stats = TraceStats::default();
+            let aperture = Aperture::new(&head.camera, sensor_pose);
+            let mut tracer = Tracer {
+                scene,
+                head,
+                aperture,
+                settings,
+                sampler: &sampler,
+                splats: Vec::new(),
+                stats: TraceStats::default(),
+            };
             let end = ((c + 1) * CHUNK).min(settings.photons);
             for i in c * CHUNK..end {
-                trace_photon(
-                    scene,
-                    head,
-                    sensor_pose,
-                    settings,
-                    &sampler,
-                    i,
-                    &mut splats,
-                    &mut stats,
-                );
+                tracer.trace_photon(i);
             }
-            (splats, stats)
+            (tracer.splats, tracer.stats)
         })
         .collect();
     let cam = &head.camera;
@@ -122,113 +145,345 @@ pub fn render(
     (image, stats)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn trace_photon(
-    scene: &TraceScene,
-    head: &SensorHead,
-    sensor_pose: &Pose,
-    settings: &TraceSettings,
-    sampler: &PoseSampler,
-    i: u64,
-    splats: &mut Vec<Splat>,
-    stats: &mut TraceStats,
-) {
-    let laser = &head.config.laser;
-    let cam = &head.camera;
-    let spec = cam.spec();
-    let flux = laser.power_w / settings.photons as f64;
-    stats.photons += 1;
+/// What a photon carries between interactions.
+struct Photon {
+    origin: Point3<f64>,
+    dir: Vector3<f64>,
+    /// Flux (W).
+    flux: f64,
+    /// Polarisation, normalised to intensity 1.
+    stokes: Stokes,
+    /// Every interaction so far was specular (a glint candidate).
+    all_specular: bool,
+    /// The photon has crossed a glass interface.
+    crossed_glass: bool,
+    /// The photon has been reflected inside glass.
+    internal_reflection: bool,
+}
 
-    // Stratify the fan angle over the photon index so every column gets an even share.
-    let fan_u = (i as f64 + sampler.uniform(i, 0)) / settings.photons as f64;
-    let [b1, b2, l1, l2] = sampler.lattice4(i);
-    let ray = laser.sample_ray([fan_u, b1, b2, 0.0]);
-    let mut origin: Point3<f64> = sensor_pose * ray.origin;
-    let mut dir: Vector3<f64> = sensor_pose.rotation * ray.direction;
-    let lens_axis_b = sensor_pose.rotation * cam.axis();
-    let inv_pose = sensor_pose.inverse();
+/// A non-specular vertex that can connect to the camera.
+enum Connectable {
+    /// Ideal diffuse reflection into the hemisphere of `n` (opaque surfaces, face dust).
+    Diffuse { n: Vector3<f64>, albedo: f64 },
+    /// The rough glass edge.
+    Rough(RoughVertex),
+}
 
-    for depth in 0..settings.max_depth {
-        let Some(hit) = scene.accel.closest_hit(&origin, &dir, 0.0, FAR_M) else {
-            return;
-        };
-        if depth == 0 {
-            stats.laser_hits += 1;
-        }
-        stats.vertices += 1;
-        let SurfaceModel::Lambertian(lambert) = scene.surfaces[hit.material as usize];
-        // Shade on the side the light arrives from.
-        let wo = -dir;
-        let flip = if hit.geometric_normal.dot(&wo) < 0.0 {
-            -1.0
-        } else {
-            1.0
-        };
-        let ng = hit.geometric_normal * flip;
-        let mut ns = hit.shading_normal * flip;
-        if ns.dot(&wo) <= 0.0 {
-            ns = ng;
-        }
-        let x = hit.point + ng * RAY_EPSILON_M;
+struct Tracer<'a> {
+    scene: &'a TraceScene,
+    head: &'a SensorHead,
+    aperture: Aperture<'a>,
+    settings: &'a TraceSettings,
+    sampler: &'a PoseSampler,
+    splats: Vec<Splat>,
+    stats: TraceStats,
+}
 
-        // Next-event estimation to a point of the aperture.
-        let base = 1 + depth * DIMS_PER_BOUNCE;
-        let lens_u = if depth == 0 {
-            [l1, l2]
-        } else {
-            [sampler.uniform(i, base), sampler.uniform(i, base + 1)]
+impl Tracer<'_> {
+    fn trace_photon(&mut self, i: u64) {
+        let laser = &self.head.config.laser;
+        let pose = self.aperture.sensor_pose;
+        self.stats.photons += 1;
+
+        // Stratify the fan angle over the photon index so every column gets an even share.
+        let fan_u = (i as f64 + self.sampler.uniform(i, 0)) / self.settings.photons as f64;
+        let [b1, b2, l1, l2] = self.sampler.lattice4(i);
+        let ray = laser.sample_ray([fan_u, b1, b2, 0.0]);
+        let dir = pose.rotation * ray.direction;
+        let stokes = match laser.polarization {
+            Polarization::Linear { angle_rad } => {
+                let axis = Vector3::new(angle_rad.cos(), angle_rad.sin(), 0.0);
+                Stokes::linear(&dir, &(pose.rotation * axis))
+            }
+            Polarization::Unpolarized => Stokes::unpolarized(&dir),
         };
-        let lens_s = cam.aperture_point(concentric_disk(lens_u));
-        let lens_b = sensor_pose * Point3::from(lens_s);
-        let to_lens = lens_b - x;
-        let dist = to_lens.norm();
-        let wi = to_lens / dist;
-        let cos_x = ns.dot(&wi);
-        let cos_l = -wi.dot(&lens_axis_b);
-        if cos_x > 0.0 && cos_l > 0.0 && ng.dot(&wi) > 0.0 {
-            stats.connections += 1;
-            if scene.accel.occluded(&x, &wi, 0.0, dist * (1.0 - 1e-9)) {
-                stats.occluded += 1;
-            } else {
-                let p_s = inv_pose * hit.point;
-                let contribution =
-                    flux * lambert.f(&ns, &wo, &wi) * cos_x * cos_l * cam.aperture_area()
-                        / (dist * dist);
-                match cam.image_point(&p_s.coords, &lens_s) {
-                    Some([c, r])
-                        if c >= 0.0
-                            && r >= 0.0
-                            && (c as usize) < spec.columns
-                            && (r as usize) < spec.rows =>
-                    {
-                        splats.push(Splat {
-                            pixel: (r as usize * spec.columns + c as usize) as u32,
-                            flux: contribution,
-                        });
-                        stats.flux_on_sensor_w += contribution;
-                    }
-                    _ => stats.off_sensor += 1,
+        let mut photon = Photon {
+            origin: pose * ray.origin,
+            dir,
+            flux: laser.power_w / self.settings.photons as f64,
+            stokes,
+            all_specular: true,
+            crossed_glass: false,
+            internal_reflection: false,
+        };
+
+        for depth in 0..self.settings.max_depth {
+            let hit = self
+                .scene
+                .accel
+                .closest_hit(&photon.origin, &photon.dir, 0.0, FAR_M);
+            if photon.all_specular && depth > 0 {
+                let t_max = hit.as_ref().map_or(FAR_M, |h| h.t);
+                if let Some(p) = self.aperture.enters(&photon.origin, &photon.dir, t_max) {
+                    self.glint(&photon, &p);
+                    return;
                 }
             }
-        }
+            let Some(hit) = hit else { return };
+            if depth == 0 {
+                self.stats.laser_hits += 1;
+            }
+            self.stats.vertices += 1;
+            let base = 1 + depth * DIMS_PER_VERTEX;
+            let lens_u = if depth == 0 {
+                [l1, l2]
+            } else {
+                [
+                    self.sampler.uniform(i, base),
+                    self.sampler.uniform(i, base + 1),
+                ]
+            };
+            let u = |k: u32| self.sampler.uniform(i, base + k);
+            let (uc, u2) = (u(2), [u(3), u(4)]);
+            let (u_pick, u_rr) = (u(5), u(6));
 
-        // Continue with Russian roulette on the albedo: survivors keep their flux.
-        if sampler.uniform(i, base + 4) >= lambert.albedo {
-            return;
+            let alive = match self.scene.surfaces[hit.material as usize] {
+                SurfaceModel::Lambertian(l) => {
+                    self.opaque_vertex(&mut photon, &hit, l, lens_u, u2, u_rr)
+                }
+                SurfaceModel::Glass(g) => {
+                    self.glass_vertex(&mut photon, &hit, &g, lens_u, uc, u2, u_pick)
+                }
+            };
+            if !alive {
+                return;
+            }
+            if depth + 1 == self.settings.max_depth {
+                self.stats.truncated += 1;
+                self.stats.truncated_power_w += photon.flux;
+            }
         }
-        if depth + 1 == settings.max_depth {
-            stats.truncated += 1;
-            stats.truncated_power_w += flux;
-            return;
-        }
-        let (wi, _pdf) = lambert.sample_wi(
-            &ns,
-            [sampler.uniform(i, base + 2), sampler.uniform(i, base + 3)],
-        );
-        if wi.dot(&ng) <= 0.0 {
-            return;
-        }
-        origin = x;
-        dir = wi;
     }
+
+    /// A Lambertian surface: connect, then continue with Russian roulette on the albedo.
+    fn opaque_vertex(
+        &mut self,
+        photon: &mut Photon,
+        hit: &Hit,
+        lambert: Lambertian,
+        lens_u: [f64; 2],
+        u2: [f64; 2],
+        u_rr: f64,
+    ) -> bool {
+        let (ng, ns) = facing_normals(hit, &photon.dir);
+        let class = if photon.crossed_glass {
+            PathClass::ThroughGlass
+        } else {
+            PathClass::of_opaque(self.scene.labels[hit.object as usize])
+        };
+        self.connect_vertex(
+            photon,
+            hit,
+            &Connectable::Diffuse {
+                n: ns,
+                albedo: lambert.albedo,
+            },
+            class,
+            false,
+            lens_u,
+        );
+        photon.all_specular = false;
+        if u_rr >= lambert.albedo {
+            return false;
+        }
+        self.continue_diffuse(photon, hit, &ng, &ns, u2)
+    }
+
+    fn continue_diffuse(
+        &mut self,
+        photon: &mut Photon,
+        hit: &Hit,
+        ng: &Vector3<f64>,
+        ns: &Vector3<f64>,
+        u2: [f64; 2],
+    ) -> bool {
+        let (wi, _) = Lambertian { albedo: 1.0 }.sample_wi(ns, u2);
+        if wi.dot(ng) <= 0.0 {
+            return false;
+        }
+        photon.origin = hit.point + ng * RAY_EPSILON_M;
+        photon.dir = wi;
+        photon.stokes = Stokes::unpolarized(&wi);
+        true
+    }
+
+    /// A glass surface: imperfection scattering, Fresnel split at a smooth face, or the rough
+    /// edge's microfacet scattering.
+    #[allow(clippy::too_many_arguments)]
+    fn glass_vertex(
+        &mut self,
+        photon: &mut Photon,
+        hit: &Hit,
+        glass: &GlassSurface,
+        lens_u: [f64; 2],
+        uc: f64,
+        u2: [f64; 2],
+        u_pick: f64,
+    ) -> bool {
+        let entering = photon.dir.dot(&hit.geometric_normal) < 0.0;
+        if !entering {
+            let kept = (-glass.absorption_per_m * hit.t).exp();
+            self.stats.absorbed_w += photon.flux * (1.0 - kept);
+            photon.flux *= kept;
+        }
+        let rough_edge = hit.part == SurfacePart::Edge && glass.edge_alpha > 0.0;
+        if rough_edge {
+            let vertex = RoughVertex::new(hit, glass, &photon.dir);
+            self.connect_vertex(
+                photon,
+                hit,
+                &Connectable::Rough(vertex),
+                PathClass::GlassEdge,
+                true,
+                lens_u,
+            );
+            photon.all_specular = false;
+            return match scatter_rough(&vertex, &mut photon.stokes, uc, u2) {
+                Some(s) => {
+                    photon.flux *= s.weight;
+                    photon.dir = s.wi;
+                    photon.origin = hit.point
+                        + hit.geometric_normal
+                            * RAY_EPSILON_M.copysign(s.wi.dot(&hit.geometric_normal));
+                    if s.transmitted {
+                        photon.crossed_glass = true;
+                    } else if !entering {
+                        photon.internal_reflection = true;
+                    }
+                    true
+                }
+                None => false,
+            };
+        }
+        if u_pick < glass.face_imperfection {
+            // Imperfections scatter diffusely back into the incident side (albedo 1).
+            let (ng, ns) = facing_normals(hit, &photon.dir);
+            let class = if photon.internal_reflection {
+                PathClass::InternalReflection
+            } else {
+                PathClass::GlassFace
+            };
+            self.connect_vertex(
+                photon,
+                hit,
+                &Connectable::Diffuse { n: ns, albedo: 1.0 },
+                class,
+                true,
+                lens_u,
+            );
+            photon.all_specular = false;
+            return self.continue_diffuse(photon, hit, &ng, &ns, u2);
+        }
+        match scatter_smooth(hit, glass, &photon.dir, &mut photon.stokes, uc) {
+            SmoothOutcome::Reflected { dir, tir } => {
+                self.stats.reflections += 1;
+                if tir {
+                    self.stats.tir += 1;
+                }
+                if !entering {
+                    photon.internal_reflection = true;
+                }
+                photon.dir = dir;
+                photon.origin = hit.point
+                    + hit.geometric_normal * RAY_EPSILON_M.copysign(dir.dot(&hit.geometric_normal));
+                true
+            }
+            SmoothOutcome::Transmitted { dir } => {
+                self.stats.refractions += 1;
+                photon.crossed_glass = true;
+                photon.dir = dir;
+                photon.origin = hit.point
+                    + hit.geometric_normal * RAY_EPSILON_M.copysign(dir.dot(&hit.geometric_normal));
+                true
+            }
+            SmoothOutcome::Absorbed => false,
+        }
+    }
+
+    /// Next-event estimation from a non-specular vertex to a sampled point of the aperture.
+    fn connect_vertex(
+        &mut self,
+        photon: &Photon,
+        hit: &Hit,
+        vertex: &Connectable,
+        class: PathClass,
+        on_glass: bool,
+        lens_u: [f64; 2],
+    ) {
+        let lens_point = self.aperture.point(concentric_disk(lens_u));
+        let connections = connect(
+            self.scene,
+            &self.aperture,
+            &hit.point,
+            &hit.geometric_normal,
+            on_glass,
+            &lens_point,
+        );
+        self.stats.connections += 1;
+        if connections.is_empty() {
+            self.stats.occluded += 1;
+        }
+        for c in connections {
+            let f_cos = match vertex {
+                Connectable::Diffuse { n, albedo } => {
+                    let cos = n.dot(&c.dir);
+                    if cos <= 0.0 {
+                        continue;
+                    }
+                    albedo / std::f64::consts::PI * cos
+                }
+                Connectable::Rough(v) => v.f_cos(&photon.stokes, &c.dir),
+            };
+            if f_cos <= 0.0 {
+                continue;
+            }
+            if c.end.crossed_glass {
+                self.stats.connections_through_glass += 1;
+            }
+            let class = if c.end.crossed_glass && !on_glass {
+                PathClass::ThroughGlass
+            } else {
+                class
+            };
+            let flux = photon.flux * f_cos * self.aperture.area() * c.dw_da * c.end.transmittance;
+            self.splat(&lens_point, &c.end.dir, flux, class);
+        }
+    }
+
+    fn glint(&mut self, photon: &Photon, lens_point: &Point3<f64>) {
+        self.stats.glints += 1;
+        self.splat(lens_point, &photon.dir, photon.flux, PathClass::Glint);
+    }
+
+    fn splat(&mut self, lens_point: &Point3<f64>, dir: &Vector3<f64>, flux: f64, class: PathClass) {
+        let spec = self.head.camera.spec();
+        match self.aperture.image_of_ray(lens_point, dir) {
+            Some([c, r])
+                if c >= 0.0
+                    && r >= 0.0
+                    && (c as usize) < spec.columns
+                    && (r as usize) < spec.rows =>
+            {
+                self.splats.push(Splat {
+                    pixel: (r as usize * spec.columns + c as usize) as u32,
+                    class,
+                    flux,
+                });
+                self.stats.flux_on_sensor_w += flux;
+            }
+            _ => self.stats.off_sensor += 1,
+        }
+    }
+}
+
+/// Geometric and shading normals turned towards the side the light arrives from.
+fn facing_normals(hit: &Hit, dir: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let flip = if hit.geometric_normal.dot(dir) > 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let ng = hit.geometric_normal * flip;
+    let ns = hit.shading_normal * flip;
+    (ng, if ns.dot(&-dir) > 0.0 { ns } else { ng })
 }

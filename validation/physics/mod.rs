@@ -1,4 +1,6 @@
 //! Analytic physics checks.
 
+mod glass;
+mod optics;
 mod radiometry;
 mod triangulation;

@@ -38,7 +38,7 @@ fn flux_into_the_camera_matches_the_analytic_integral() {
     }
     let r = simulate(&world, 1 << 20, 21);
     let got = r.stats.flux_on_sensor_w;
-    let image_sum: f64 = r.irradiance.data.iter().sum::<f64>() * cam.pixel_area();
+    let image_sum: f64 = r.irradiance.total.data.iter().sum::<f64>() * cam.pixel_area();
     eprintln!("flux on sensor: simulated {got:.6e} W, analytic {expected:.6e} W");
     assert!(
         (got / expected - 1.0).abs() < 0.005,
@@ -56,7 +56,7 @@ fn irradiance_is_linear_in_laser_power() {
     let a = simulate(&world, 1 << 16, 22);
     world.sensor.laser.power_w *= 2.0;
     let b = simulate(&world, 1 << 16, 22);
-    for (x, y) in a.irradiance.data.iter().zip(&b.irradiance.data) {
+    for (x, y) in a.irradiance.total.data.iter().zip(&b.irradiance.total.data) {
         assert_eq!(2.0 * x, *y);
     }
 }
@@ -77,9 +77,10 @@ fn same_seed_gives_bit_identical_images_for_one_and_two_threads() {
     };
     let one = run(1);
     let two = run(2);
-    assert!(one.irradiance.data.iter().any(|&v| v > 0.0));
+    assert!(one.irradiance.total.data.iter().any(|&v| v > 0.0));
     let bits = |r: &glassscan::scan::simulate::PoseResult| {
         r.irradiance
+            .total
             .data
             .iter()
             .map(|v| v.to_bits())

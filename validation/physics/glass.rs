@@ -1,0 +1,168 @@
+//! Light transport through glass against closed-form optics.
+
+use glassscan::optics::slab::slab_rta;
+use glassscan::sensor::SensorHead;
+use nalgebra::Vector3;
+
+use crate::common::{
+    add_glass_box, clear_glass, facing_plate, simulate, valid_points, world_of_boxes,
+};
+
+/// Mean z (mm) of the valid profile points with |x| < `half_width` mm.
+fn mean_z_near_centre(r: &glassscan::scan::simulate::PoseResult, half_width: f64) -> (f64, usize) {
+    let pts: Vec<f64> = valid_points(r)
+        .iter()
+        .filter(|p| p.0.abs() < half_width)
+        .map(|p| p.1)
+        .collect();
+    (pts.iter().sum::<f64>() / pts.len() as f64, pts.len())
+}
+
+#[test]
+fn background_seen_through_a_tilted_pane_shifts_as_the_plate_formula_says() {
+    // A plate at z = 300 mm seen by the camera through a 4 mm pane that the laser does not
+    // cross. The pane sits across the chief ray from the line centre to the lens, tilted by
+    // θ = 45° to it. A ray through a plate of thickness t shifts sideways by
+    // d = t·sin θ·(1 − cos θ / √(n² − sin² θ)) (Hecht, Optics, §5.2 plane-parallel plate; issue
+    // #3: 4 mm at 45° → 1.34 mm for n = 1.515). The camera then sees the line centre along a
+    // ray displaced by d, which the triangulation puts on the laser plane at a shifted range.
+    let n = 1.5208;
+    let t_mm = 4.0;
+    let z_bg = 300.0;
+    let base = world_of_boxes(&[facing_plate(z_bg, 0.0)]);
+    let head = SensorHead::new(&base.sensor).unwrap();
+    let c = head.camera.center() * 1e3; // lens centre (mm); S = B here
+    let p = Vector3::new(0.0, 0.0, z_bg);
+    let u = (c - p).normalize(); // light travels from the line towards the lens
+                                 // Pane half-way along the chief ray; its normal is u rotated by 45° about x.
+    let mid = p + (c - p) * 0.5;
+    let theta = 45f64.to_radians();
+    let rot = nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), theta);
+    let normal = rot * u; // unit, 45° from u
+                          // Box rotation about x that turns its +z axis into `normal`.
+    let rx = (-normal.y).atan2(normal.z).to_degrees();
+    let mut world = base.clone();
+    add_glass_box(
+        &mut world,
+        [60.0, 30.0, t_mm],
+        [mid.x, mid.y, mid.z],
+        [rx, 0.0, 0.0],
+        clear_glass(n, 0.0),
+    );
+
+    // Analytic shift of the chief ray and its triangulated range. The ray that reaches the
+    // lens centre C leaves the line point P along w, is displaced sideways by d(θ_w) towards
+    // the inward normal m (inside the glass it bends towards m), and arrives at C along w:
+    // P + δ(w) + s·w = C, solved by fixed-point iteration. The camera triangulates the line
+    // through C along w against the laser plane y = 0.
+    let m = if normal.dot(&u) > 0.0 {
+        normal
+    } else {
+        -normal
+    };
+    let shift = |w: &Vector3<f64>| {
+        let cos_t = w.dot(&m);
+        let sin_t = (1.0 - cos_t * cos_t).sqrt();
+        let d = t_mm * sin_t * (1.0 - cos_t / (n * n - sin_t * sin_t).sqrt());
+        (m - w * cos_t).normalize() * d
+    };
+    let mut w = u;
+    for _ in 0..50 {
+        w = (c - (p + shift(&w))).normalize();
+    }
+    let apparent = c - w * (c.y / w.y);
+    let s = theta.sin();
+    let d = t_mm * s * (1.0 - theta.cos() / (n * n - s * s).sqrt());
+    let expected_dz = apparent.z - z_bg;
+    assert!((d - 1.34).abs() < 0.02, "plate formula gives {d} mm");
+
+    let photons = 1 << 21;
+    // A small aperture (f/22): the formula is for one ray, and a wide aperture adds the
+    // aberrations of a tilted plate (astigmatism) to the centroid.
+    let mut base = base;
+    base.sensor.camera.f_number = 22.0;
+    world.sensor.camera.f_number = 22.0;
+    // (22/2.8)² ≈ 62 times less light: expose 62 times longer.
+    base.sensor.imager.exposure_s *= 62.0;
+    world.sensor.imager.exposure_s *= 62.0;
+    let (z0, n0) = mean_z_near_centre(&simulate(&base, photons, 31), 2.0);
+    let through = simulate(&world, photons, 31);
+    let (z1, n1) = mean_z_near_centre(&through, 2.0);
+    eprintln!(
+        "lateral shift d = {d:.4} mm; expected Δz = {expected_dz:.4} mm, simulated {:.4} mm \
+         ({n0} / {n1} points); {} connections through glass",
+        z1 - z0,
+        through.stats.connections_through_glass
+    );
+    assert!(n0 > 5 && n1 > 5);
+    assert!(through.stats.connections_through_glass > 1000);
+    assert!(
+        ((z1 - z0) - expected_dz).abs() < 0.05,
+        "Δz {} vs {expected_dz}",
+        z1 - z0
+    );
+}
+
+#[test]
+fn pane_in_the_laser_path_transmits_the_slab_fraction() {
+    // A clear 4 mm pane across the laser fan at z = 100–104 mm, out of the camera's view of the
+    // plate at z = 300 mm. Per column, the line on the plate loses the pane's transmittance:
+    // the incoherent sum over internal reflections, T²τ/(1 − R²τ²) per polarisation (issue #3:
+    // 91.95 % at normal incidence for n = 1.515, no absorption). The pane also displaces each
+    // fan ray sideways, which moves the apparent source forwards and packs the line
+    // x(φ) = Z·tan φ − t·(tan φ − tan φ_t) a little tighter on the plate: each column gets
+    // T(φ)·(dx₀/dφ)/(dx/dφ) of its open-air flux.
+    let (z_plate, t, n) = (300.0, 4.0, 1.515);
+    let open = world_of_boxes(&[facing_plate(z_plate, 0.0)]);
+    let photons = 1 << 19;
+    let open_run = simulate(&open, photons, 41);
+    // Columns well inside the field, with the flux in ±4 rows around the line (light that the
+    // pane reflects back onto the plate from its diffuse return lands all over the image).
+    let columns: Vec<(usize, usize, f64)> = open_run
+        .profile
+        .points
+        .iter()
+        .filter(|p| p.valid && p.x_mm.abs() < 40.0)
+        .map(|p| (p.column, p.row as usize, p.x_mm))
+        .collect();
+    let band = |r: &glassscan::scan::simulate::PoseResult, col: usize, row: usize| -> f64 {
+        let img = &r.irradiance.total;
+        (row.saturating_sub(4)..(row + 5).min(img.height))
+            .map(|k| img.get(col, k))
+            .sum()
+    };
+    let x_on_plate = |phi: f64| {
+        let phi_t = (phi.sin() / n).asin();
+        z_plate * phi.tan() - t * (phi.tan() - phi_t.tan())
+    };
+    for (alpha_per_m, label) in [(0.0, "clear"), (50.0, "absorbing")] {
+        let mut world = open.clone();
+        add_glass_box(
+            &mut world,
+            [200.0, 30.0, t],
+            [0.0, 0.0, 102.0],
+            [0.0; 3],
+            clear_glass(n, alpha_per_m),
+        );
+        let r = simulate(&world, photons, 41);
+        let (mut got, mut expected, mut reference) = (0.0, 0.0, 0.0);
+        for &(col, row, x) in &columns {
+            let b0 = band(&open_run, col, row);
+            let phi = (x / z_plate).atan();
+            let h = 1e-6;
+            let packing = (z_plate * ((phi + h).tan() - (phi - h).tan()))
+                / (x_on_plate(phi + h) - x_on_plate(phi - h));
+            // The preset's polarisation is along the line: p in the fan's plane of incidence.
+            let tp = slab_rta(phi.cos(), n, alpha_per_m, t * 1e-3).p.t;
+            reference += b0;
+            expected += b0 * tp * packing;
+            got += band(&r, col, row);
+        }
+        let (ratio, expected) = (got / reference, expected / reference);
+        eprintln!("{label} pane: flux ratio {ratio:.5}, slab formula {expected:.5}");
+        assert!(
+            (ratio / expected - 1.0).abs() < 0.002,
+            "{label}: {ratio} vs {expected}"
+        );
+    }
+}
