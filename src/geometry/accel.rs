@@ -4,6 +4,12 @@
 //! primitive order so the hot loop indexes them directly. obvhs returns only the hit distance;
 //! barycentrics come from `RtTriangle::compute_barycentric`, which is correct in obvhs 0.4.0
 //! (p = (1−u−v)·v0 + u·v1 + v·v2), unlike `Triangle::compute_barycentric` (PITFALLS.md).
+//!
+//! Units: obvhs sees millimetres, not metres. Its CWBVH node test clamps the entry distance to
+//! `EPSILON = 1e-4` scene units (obvhs 0.4.0 `cwbvh/node.rs`), so in metres every box that a
+//! ray leaves within 0.1 mm of its origin is culled: a ray from a table 10 µm under a glass
+//! pane misses the pane. In millimetres that blind zone is 0.1 µm, below the tracer's 2 µm ray
+//! offset; f32 still resolves ~0.06 µm over a metre, and hits are refined in f64 anyway.
 
 use std::time::Duration;
 
@@ -66,7 +72,11 @@ pub struct SceneAccel {
     input: Vec<SceneTriangle>,
 }
 
+/// BVH units per metre (see the module documentation).
+const BVH_UNITS_PER_M: f64 = 1e3;
+
 fn to_vec3a(p: &Point3<f64>) -> Vec3A {
+    let p = p * BVH_UNITS_PER_M;
     Vec3A::new(p.x as f32, p.y as f32, p.z as f32)
 }
 
@@ -74,8 +84,8 @@ fn to_ray(origin: &Point3<f64>, dir: &Vector3<f64>, t_min: f64, t_max: f64) -> R
     Ray::new(
         to_vec3a(origin),
         Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
-        t_min as f32,
-        t_max as f32,
+        (t_min * BVH_UNITS_PER_M) as f32,
+        (t_max * BVH_UNITS_PER_M).min(f32::MAX as f64) as f32,
     )
 }
 
@@ -138,7 +148,14 @@ impl SceneAccel {
         }
         let id = hit.primitive_id as usize;
         let bary = self.rt[id].compute_barycentric(&ray);
-        Some(self.make_hit(self.source[id], hit.t as f64, origin, dir, bary.x, bary.y))
+        Some(self.make_hit(
+            self.source[id],
+            hit.t as f64 / BVH_UNITS_PER_M,
+            origin,
+            dir,
+            bary.x,
+            bary.y,
+        ))
     }
 
     /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max] (`dir` unit length).
@@ -184,7 +201,7 @@ impl SceneAccel {
                 to_vec3a(&t.vertices[2]),
             );
             let b = rt.compute_barycentric(&ray);
-            self.make_hit(i as u32, d as f64, origin, dir, b.x, b.y)
+            self.make_hit(i as u32, d as f64 / BVH_UNITS_PER_M, origin, dir, b.x, b.y)
         })
     }
 
@@ -330,5 +347,21 @@ mod tests {
             "u {u} v {v}"
         );
         assert!((h.geometric_normal - Vector3::z()).norm() < 1e-12);
+    }
+
+    /// Regression: obvhs culls BVH nodes left within 1e-4 scene units of the ray origin; in
+    /// metres that hid a glass pane 10 µm above a table from rays leaving the table.
+    #[test]
+    fn surfaces_a_few_micrometres_away_are_hit() {
+        let mut tris = cloud(50);
+        for (k, z) in [1e-5, 2e-5].into_iter().enumerate() {
+            tris.push(tri([-1.0, -1.0, z], [1.0, -1.0, z], [0.0, 1.0, z], 100 + k as u32));
+        }
+        let accel = SceneAccel::build(tris);
+        let o = Point3::new(0.0, 0.0, 2e-6);
+        let h = accel.closest_hit(&o, &Vector3::z(), 0.0, 1.0).expect("the plane 8 µm above");
+        assert_eq!(h.object, 100);
+        assert!((h.t - 8e-6).abs() < 1e-12, "{}", h.t);
+        assert!(accel.occluded(&o, &Vector3::z(), 0.0, 1.0));
     }
 }
