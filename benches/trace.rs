@@ -1,5 +1,7 @@
-//! One full opaque profile: transport + exposure + extraction of `scenes/flat_opaque.toml`'s
-//! first scan pose with the CLI's default photon count (criterion).
+//! Full profiles (criterion): transport + exposure + extraction of the first scan pose with
+//! the CLI's default photon count, on `scenes/flat_opaque.toml` (opaque) and on
+//! `scenes/flat_panel.toml` scanned at 45° (glass: Fresnel splits, refraction, connections
+//! through the pane).
 
 use std::path::Path;
 
@@ -10,32 +12,56 @@ use glassscan::scene;
 use glassscan::sensor::SensorHead;
 use glassscan::transport::{TraceScene, TraceSettings};
 
-fn bench(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/flat_opaque.toml");
-    let world = scene::load(&path).expect("flat_opaque.toml loads");
+/// The first scan pose of a shipped scene, optionally at another scan angle.
+fn first_pose(
+    name: &str,
+    scan_angle_deg: Option<f64>,
+) -> (TraceScene, SensorHead, glassscan::scan::poses::ScanPose) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let world = scene::load(&path).expect("shipped scenes load");
     let head = SensorHead::new(&world.sensor).unwrap();
     let trace = TraceScene::new(&world).unwrap();
     let target = world.target.as_ref().unwrap();
     let border = target
         .border
         .transformed(&world.objects[target.object].pose);
-    let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
+    let mut scan = world.scan;
+    if let Some(a) = scan_angle_deg {
+        scan.scan_angle_rad = a.to_radians();
+    }
+    let pose = plan_border_scan(&border, &scan, &world.mount).remove(0);
+    (trace, head, pose)
+}
+
+fn bench(c: &mut Criterion) {
     let settings = TraceSettings {
         photons: 1 << 20,
-        max_depth: 16,
+        max_depth: 64,
         seed: 1,
     };
     let mut g = c.benchmark_group("profile");
     g.sample_size(10);
     g.throughput(Throughput::Elements(settings.photons));
-    g.bench_function("flat_opaque_pose0_1M_photons", |b| {
-        b.iter(|| {
-            simulate_pose(&trace, &head, &pose, &settings)
-                .profile
-                .points
-                .len()
-        })
-    });
+    for (label, scene_file, angle) in [
+        ("flat_opaque_pose0_1M_photons", "flat_opaque.toml", None),
+        (
+            "flat_panel_45deg_pose0_1M_photons",
+            "flat_panel.toml",
+            Some(45.0),
+        ),
+    ] {
+        let (trace, head, pose) = first_pose(scene_file, angle);
+        g.bench_function(label, |b| {
+            b.iter(|| {
+                simulate_pose(&trace, &head, &pose, &settings)
+                    .profile
+                    .points
+                    .len()
+            })
+        });
+    }
     g.finish();
 }
 

@@ -355,11 +355,18 @@ mod tests {
     fn surfaces_a_few_micrometres_away_are_hit() {
         let mut tris = cloud(50);
         for (k, z) in [1e-5, 2e-5].into_iter().enumerate() {
-            tris.push(tri([-1.0, -1.0, z], [1.0, -1.0, z], [0.0, 1.0, z], 100 + k as u32));
+            tris.push(tri(
+                [-1.0, -1.0, z],
+                [1.0, -1.0, z],
+                [0.0, 1.0, z],
+                100 + k as u32,
+            ));
         }
         let accel = SceneAccel::build(tris);
         let o = Point3::new(0.0, 0.0, 2e-6);
-        let h = accel.closest_hit(&o, &Vector3::z(), 0.0, 1.0).expect("the plane 8 µm above");
+        let h = accel
+            .closest_hit(&o, &Vector3::z(), 0.0, 1.0)
+            .expect("the plane 8 µm above");
         assert_eq!(h.object, 100);
         assert!((h.t - 8e-6).abs() < 1e-12, "{}", h.t);
         assert!(accel.occluded(&o, &Vector3::z(), 0.0, 1.0));

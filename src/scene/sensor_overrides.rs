@@ -341,6 +341,31 @@ mod tests {
     }
 
     #[test]
+    fn polarization_is_linear_along_the_line_unless_overridden() {
+        let preset = "[sensor]\npreset = \"scancontrol-2600-100\"\n";
+        let s = resolve(preset).unwrap();
+        assert_eq!(
+            s.laser.polarization,
+            Polarization::Linear { angle_rad: 0.0 }
+        );
+        let s = resolve(&format!("{preset}polarization = \"unpolarized\"\n")).unwrap();
+        assert_eq!(s.laser.polarization, Polarization::Unpolarized);
+        let s = resolve(&format!(
+            "{preset}polarization = {{ linear = {{ angle_deg = 90 }} }}\n"
+        ))
+        .unwrap();
+        assert!(
+            matches!(s.laser.polarization, Polarization::Linear { angle_rad }
+            if (angle_rad - std::f64::consts::FRAC_PI_2).abs() < 1e-15)
+        );
+        let m = err(&format!("{preset}polarization = \"circular\"\n"));
+        assert!(
+            m.starts_with("s.toml:3:") && m.contains("polarization"),
+            "{m}"
+        );
+    }
+
+    #[test]
     fn unknown_preset_lists_the_valid_names() {
         let m = err("[sensor]\npreset = \"scancontrol-9999\"\n");
         assert!(m.starts_with("s.toml:2:10: sensor.preset"), "{m}");

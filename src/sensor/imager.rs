@@ -85,4 +85,17 @@ mod tests {
         assert_eq!(imager.digitize(10.0 * half_well), 1023);
         assert_eq!(imager.digitize(0.0), 0);
     }
+
+    #[test]
+    fn signal_scales_linearly_with_exposure_until_full_well() {
+        let mut imager = scancontrol_2600_100().imager;
+        let e = 2.0; // W/m²
+        let a = imager.photons(e, 9.4e-6 * 9.4e-6, 658e-9);
+        imager.exposure_s *= 3.0;
+        let b = imager.photons(e, 9.4e-6 * 9.4e-6, 658e-9);
+        assert!((b / a - 3.0).abs() < 1e-12);
+        let dn = |p: f64| imager.digitize(p) as f64;
+        // 100 e⁻ → 6.82 DN: linear to the rounding.
+        assert!((dn(600.0) - 3.0 * dn(200.0)).abs() <= 1.5);
+    }
 }

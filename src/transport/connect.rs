@@ -178,7 +178,7 @@ pub fn solve_connection(
     None
 }
 
-/// All connections from vertex `x` (outward geometric normal `ng`) to `lens_point`: the
+/// The connections (at most two) from vertex `x` (outward geometric normal `ng`) to `lens_point`: the
 /// straight segment if nothing is in the way, otherwise the transmitted chains from the
 /// straight seed and, for a vertex on glass, from its mirror image into the glass.
 pub fn connect(
@@ -188,8 +188,8 @@ pub fn connect(
     ng: &Vector3<f64>,
     on_glass: bool,
     lens_point: &Point3<f64>,
-) -> Vec<Connection> {
-    let mut out = Vec::with_capacity(2);
+) -> [Option<Connection>; 2] {
+    let mut out = [None, None];
     let straight = lens_point - x;
     let dist = straight.norm();
     let s = straight / dist;
@@ -203,26 +203,28 @@ pub fn connect(
         .accel
         .closest_hit(&origin, &(to_lens / to_lens.norm()), 0.0, to_lens.norm())
     {
-        None => out.push(Connection {
-            dir: s,
-            dw_da: cos_l / (dist * dist),
-            end: ChainEnd {
-                landing: *lens_point,
+        None => {
+            out[0] = Some(Connection {
                 dir: s,
-                transmittance: 1.0,
-                crossed_glass: false,
-            },
-        }),
+                dw_da: cos_l / (dist * dist),
+                end: ChainEnd {
+                    landing: *lens_point,
+                    dir: s,
+                    transmittance: 1.0,
+                    crossed_glass: false,
+                },
+            })
+        }
         Some(hit) if scene.glass(hit.material).is_some() => {
-            out.extend(solve_connection(scene, aperture, x, ng, lens_point, s));
+            out[0] = solve_connection(scene, aperture, x, ng, lens_point, s);
         }
         Some(_) => {}
     }
     if on_glass {
         let mirrored = s - ng * (2.0 * s.dot(ng));
         if let Some(c) = solve_connection(scene, aperture, x, ng, lens_point, mirrored) {
-            if out.iter().all(|o| (o.dir - c.dir).norm() > 1e-9) {
-                out.push(c);
+            if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
+                out[1] = Some(c);
             }
         }
     }

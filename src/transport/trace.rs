@@ -420,10 +420,10 @@ impl Tracer<'_> {
             &lens_point,
         );
         self.stats.connections += 1;
-        if connections.is_empty() {
+        if connections.iter().all(Option::is_none) {
             self.stats.occluded += 1;
         }
-        for c in connections {
+        for c in connections.into_iter().flatten() {
             let f_cos = match vertex {
                 Connectable::Diffuse { n, albedo } => {
                     let cos = n.dot(&c.dir);

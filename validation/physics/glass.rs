@@ -166,3 +166,57 @@ fn pane_in_the_laser_path_transmits_the_slab_fraction() {
         );
     }
 }
+
+#[test]
+fn estimate_converges_at_least_as_one_over_root_n_and_is_thread_independent() {
+    // A plate behind a pane that is tilted 30° in the laser path (refraction, Fresnel split,
+    // internal reflections), and a face imperfection so diffuse vertices sit on the glass too.
+    let mut world = world_of_boxes(&[facing_plate(300.0, 10.0)]);
+    let mut glass = clear_glass(1.5208, 3.0);
+    glass.face_imperfection = 0.01;
+    add_glass_box(
+        &mut world,
+        [200.0, 30.0, 4.0],
+        [0.0, 0.0, 120.0],
+        [0.0, 30.0, 0.0],
+        glass,
+    );
+    // The estimate: flux on a block of 40 columns × all rows (W).
+    let block = |r: &glassscan::scan::simulate::PoseResult| -> f64 {
+        let img = &r.irradiance.total;
+        (0..img.height)
+            .flat_map(|row| (300..340).map(move |col| (col, row)))
+            .map(|(c, row)| img.get(c, row))
+            .sum()
+    };
+    let spread = |photons: u64| -> (f64, f64) {
+        let v: Vec<f64> = (0..8)
+            .map(|seed| block(&simulate(&world, photons, 100 + seed)))
+            .collect();
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
+        (mean, (var / v.len() as f64).sqrt())
+    };
+    let (m1, e1) = spread(1 << 13);
+    let (m2, e2) = spread(1 << 15);
+    eprintln!(
+        "N = 2^13: {m1:.5e} ± {e1:.2e}; N = 2^15: {m2:.5e} ± {e2:.2e}; ratio {:.3}",
+        e2 / e1
+    );
+    // Four times the photons: the standard error at least halves (up to the scatter of an
+    // 8-sample estimate of a standard deviation, ~25 %), and the two means agree.
+    assert!(e2 / e1 < 0.5 * 1.5, "error ratio {}", e2 / e1);
+    assert!((m1 - m2).abs() < 4.0 * (e1 * e1 + e2 * e2).sqrt());
+
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| simulate(&world, 50_000, 7))
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.irradiance, two.irradiance);
+    assert_eq!(one.stats, two.stats);
+    assert!(one.stats.connections_through_glass > 0 && one.stats.refractions > 0);
+}
