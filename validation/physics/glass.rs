@@ -220,3 +220,102 @@ fn estimate_converges_at_least_as_one_over_root_n_and_is_thread_independent() {
     assert_eq!(one.stats, two.stats);
     assert!(one.stats.connections_through_glass > 0 && one.stats.refractions > 0);
 }
+
+#[test]
+fn laser_polarisation_changes_what_crosses_a_pane_at_45_degrees() {
+    // A clear pane tilted 45° about y across the laser fan: for the central rays the plane of
+    // incidence is x–z, so light polarised along the line (x) is p and along y is s. A plate
+    // crossed at 45° passes (1 − R)/(1 + R) of each (no absorption): 0.982 for p (R_p = 0.9 %)
+    // and 0.826 for s (R_s = 9.6 %) at n = 1.515 (Fresnel; issue #3).
+    let n = 1.515;
+    let run = |axis_deg: f64| {
+        let mut world = world_of_boxes(&[facing_plate(300.0, 0.0)]);
+        world.sensor.laser.polarization = glassscan::sensor::projector::Polarization::Linear {
+            angle_rad: axis_deg.to_radians(),
+        };
+        add_glass_box(
+            &mut world,
+            [200.0, 30.0, 4.0],
+            [0.0, 0.0, 150.0],
+            [0.0, 45.0, 0.0],
+            clear_glass(n, 0.0),
+        );
+        simulate(&world, 1 << 19, 51)
+    };
+    let (p, s) = (run(0.0), run(90.0));
+    // Flux in ±4 rows around the line, over the central columns (incidence 45° ± 1.5°).
+    let band = |r: &glassscan::scan::simulate::PoseResult| -> f64 {
+        let img = &r.irradiance.total;
+        p.profile
+            .points
+            .iter()
+            .filter(|q| q.valid && q.x_mm.abs() < 8.0)
+            .map(|q| {
+                let row = q.row as usize;
+                (row.saturating_sub(4)..row + 5)
+                    .map(|k| img.get(q.column, k))
+                    .sum::<f64>()
+            })
+            .sum()
+    };
+    let measured = band(&p) / band(&s);
+    let slab = slab_rta(45f64.to_radians().cos(), n, 0.0, 0.004);
+    let expected = slab.p.t / slab.s.t;
+    eprintln!(
+        "p/s flux through a 45° pane: {measured:.4} (slab formula {expected:.4}: T_p {:.4}, T_s {:.4})",
+        slab.p.t, slab.s.t
+    );
+    assert!(
+        (measured / expected - 1.0).abs() < 0.01,
+        "{measured} vs {expected}"
+    );
+}
+
+#[test]
+fn a_mirror_reflection_into_the_lens_is_a_saturating_glint() {
+    // A pane across the laser at z = 150 mm whose normal bisects the laser axis and the line of
+    // sight to the lens: its specular reflection (R ≈ 4–5 % at 16.8°) goes straight into the
+    // aperture. That light reaches the sensor as a glint, orders of magnitude above the diffuse
+    // return, and saturates it (paper §III-B, Fig. 3b).
+    let mut world = world_of_boxes(&[facing_plate(300.0, 0.0)]);
+    let head = SensorHead::new(&world.sensor).unwrap();
+    let hit = Vector3::new(0.0, 0.0, 150.0);
+    let to_lens = (head.camera.center() * 1e3 - hit).normalize();
+    let normal = (to_lens - Vector3::z()).normalize(); // bisector of −(laser) and the lens
+                                                       // Rx(rx) turns the box's +z axis into (0, −sin rx, cos rx) = normal.
+    let rx = (-normal.y).atan2(normal.z).to_degrees();
+    add_glass_box(
+        &mut world,
+        [60.0, 60.0, 4.0],
+        [0.0, 0.0, 152.0],
+        [rx, 0.0, 0.0],
+        clear_glass(1.5208, 0.0),
+    );
+    let r = simulate(&world, 1 << 18, 61);
+    let glint = glassscan::transport::PathClass::Glint;
+    let glint_flux: f64 = r.irradiance.by_class[glint.index()]
+        .data
+        .iter()
+        .sum::<f64>()
+        * head.camera.pixel_area();
+    let saturated = r.image.data.iter().filter(|&&v| v == 1023).count();
+    // Peak irradiance of the glint against the peak of everything else (the diffuse line).
+    let glint_layer = &r.irradiance.by_class[glint.index()].data;
+    let glint_peak = glint_layer.iter().copied().fold(0.0, f64::max);
+    let diffuse_peak = r
+        .irradiance
+        .total
+        .data
+        .iter()
+        .zip(glint_layer)
+        .map(|(t, g)| t - g)
+        .fold(0.0, f64::max);
+    eprintln!(
+        "glints: {} photons, {glint_flux:.3e} W on the sensor; peak {glint_peak:.3e} W/m² vs \
+         diffuse peak {diffuse_peak:.3e} W/m²; {saturated} saturated pixels",
+        r.stats.glints
+    );
+    assert!(r.stats.glints > 100);
+    assert!(glint_peak > 100.0 * diffuse_peak);
+    assert!(saturated > 0);
+}
