@@ -164,3 +164,20 @@ pub fn clear_glass(ior: f64, absorption_per_m: f64) -> glassscan::scene::world::
         edge_roughness: 0.0,
     }
 }
+
+/// `simulate` on a thread pool of `threads` threads.
+pub fn simulate_with_threads(world: &World, photons: u64, seed: u64, threads: usize) -> PoseResult {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(|| simulate(world, photons, seed))
+}
+
+/// Irradiance summed over ±4 rows around `row` in `column`: the whole laser line, and little
+/// of the stray light that lands all over the image.
+pub fn line_band(img: &glassscan::sensor::image::Image<f64>, column: usize, row: usize) -> f64 {
+    (row.saturating_sub(4)..(row + 5).min(img.height))
+        .map(|k| img.get(column, k))
+        .sum()
+}

@@ -5,7 +5,8 @@ use glassscan::sensor::SensorHead;
 use nalgebra::Vector3;
 
 use crate::common::{
-    add_glass_box, clear_glass, facing_plate, simulate, valid_points, world_of_boxes,
+    add_glass_box, clear_glass, facing_plate, line_band, simulate, simulate_with_threads,
+    valid_points, world_of_boxes,
 };
 
 /// Mean z (mm) of the valid profile points with |x| < `half_width` mm.
@@ -125,11 +126,8 @@ fn pane_in_the_laser_path_transmits_the_slab_fraction() {
         .filter(|p| p.valid && p.x_mm.abs() < 40.0)
         .map(|p| (p.column, p.row as usize, p.x_mm))
         .collect();
-    let band = |r: &glassscan::scan::simulate::PoseResult, col: usize, row: usize| -> f64 {
-        let img = &r.irradiance.total;
-        (row.saturating_sub(4)..(row + 5).min(img.height))
-            .map(|k| img.get(col, k))
-            .sum()
+    let band = |r: &glassscan::scan::simulate::PoseResult, col: usize, row: usize| {
+        line_band(&r.irradiance.total, col, row)
     };
     let x_on_plate = |phi: f64| {
         let phi_t = (phi.sin() / n).asin();
@@ -208,14 +206,10 @@ fn estimate_converges_at_least_as_one_over_root_n_and_is_thread_independent() {
     assert!(e2 / e1 < 0.5 * 1.5, "error ratio {}", e2 / e1);
     assert!((m1 - m2).abs() < 4.0 * (e1 * e1 + e2 * e2).sqrt());
 
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| simulate(&world, 50_000, 7))
-    };
-    let (one, two) = (run(1), run(2));
+    let (one, two) = (
+        simulate_with_threads(&world, 50_000, 7, 1),
+        simulate_with_threads(&world, 50_000, 7, 2),
+    );
     assert_eq!(one.irradiance, two.irradiance);
     assert_eq!(one.stats, two.stats);
     assert!(one.stats.connections_through_glass > 0 && one.stats.refractions > 0);
@@ -250,12 +244,7 @@ fn laser_polarisation_changes_what_crosses_a_pane_at_45_degrees() {
             .points
             .iter()
             .filter(|q| q.valid && q.x_mm.abs() < 8.0)
-            .map(|q| {
-                let row = q.row as usize;
-                (row.saturating_sub(4)..row + 5)
-                    .map(|k| img.get(q.column, k))
-                    .sum::<f64>()
-            })
+            .map(|q| line_band(img, q.column, q.row as usize))
             .sum()
     };
     let measured = band(&p) / band(&s);
@@ -281,8 +270,9 @@ fn a_mirror_reflection_into_the_lens_is_a_saturating_glint() {
     let head = SensorHead::new(&world.sensor).unwrap();
     let hit = Vector3::new(0.0, 0.0, 150.0);
     let to_lens = (head.camera.center() * 1e3 - hit).normalize();
-    let normal = (to_lens - Vector3::z()).normalize(); // bisector of −(laser) and the lens
-                                                       // Rx(rx) turns the box's +z axis into (0, −sin rx, cos rx) = normal.
+    // The bisector of the reversed laser axis and the line of sight to the lens; Rx(rx) turns
+    // the box's +z axis into (0, −sin rx, cos rx) = normal.
+    let normal = (to_lens - Vector3::z()).normalize();
     let rx = (-normal.y).atan2(normal.z).to_degrees();
     add_glass_box(
         &mut world,

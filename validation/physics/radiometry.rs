@@ -2,7 +2,9 @@
 
 use glassscan::sensor::SensorHead;
 
-use crate::common::{facing_plate, simulate, valid_points, world_of_boxes, BoxSpec};
+use crate::common::{
+    facing_plate, simulate, simulate_with_threads, valid_points, world_of_boxes, BoxSpec,
+};
 
 #[test]
 fn flux_into_the_camera_matches_the_analytic_integral() {
@@ -68,15 +70,8 @@ fn same_seed_gives_bit_identical_images_for_one_and_two_threads() {
         table.albedo = 0.3;
         table
     }]);
-    let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| simulate(&world, 100_000, 23))
-    };
-    let one = run(1);
-    let two = run(2);
+    let one = simulate_with_threads(&world, 100_000, 23, 1);
+    let two = simulate_with_threads(&world, 100_000, 23, 2);
     assert!(one.irradiance.total.data.iter().any(|&v| v > 0.0));
     let bits = |r: &glassscan::scan::simulate::PoseResult| {
         r.irradiance
