@@ -8,8 +8,8 @@
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use glassscan::geometry::accel::{SceneAccel, SceneTriangle};
 use glassscan::geometry::mesh::SurfacePart;
+use glassscan::sampler::PoseSampler;
 use glassscan::sensor::preset::scancontrol_2600_100;
-use glassscan::transport::sampler::PoseSampler;
 use nalgebra::{Point3, Vector3};
 
 /// A wavy height field of 2·n² triangles over [−0.5, 0.5]² m.

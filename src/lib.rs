@@ -11,6 +11,7 @@ pub mod cli;
 pub mod dataset;
 pub mod geometry;
 pub mod optics;
+pub mod sampler;
 pub mod scan;
 pub mod scene;
 pub mod sensor;

@@ -11,7 +11,7 @@
 
 use std::f64::consts::PI;
 
-use glassscan::transport::sampler::PoseSampler;
+use glassscan::sampler::PoseSampler;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 

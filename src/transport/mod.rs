@@ -32,7 +32,6 @@ pub mod film;
 pub mod interaction;
 pub mod lens;
 pub mod path;
-pub mod sampler;
 pub mod scene;
 pub mod trace;
 

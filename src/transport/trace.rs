@@ -8,7 +8,6 @@ use super::film::{develop, Irradiance, Splat};
 use super::interaction::{scatter_rough, scatter_smooth, RoughVertex, SmoothOutcome};
 use super::lens::Aperture;
 use super::path::PathClass;
-use super::sampler::PoseSampler;
 use super::scene::{GlassSurface, SurfaceModel, TraceScene};
 use crate::geometry::accel::Hit;
 use crate::geometry::mesh::SurfacePart;
@@ -16,6 +15,7 @@ use crate::geometry::pose::Pose;
 use crate::optics::lambert::Lambertian;
 use crate::optics::polarization::Stokes;
 use crate::optics::warp::concentric_disk;
+use crate::sampler::PoseSampler;
 use crate::sensor::projector::Polarization;
 use crate::sensor::SensorHead;
 

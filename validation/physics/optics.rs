@@ -15,7 +15,7 @@ use glassscan::optics::polarization::{
 };
 use glassscan::optics::refract::{reflect, refract};
 use glassscan::optics::slab::slab_rta;
-use glassscan::transport::sampler::PoseSampler;
+use glassscan::sampler::PoseSampler;
 use nalgebra::Vector3;
 
 use crate::stats::{

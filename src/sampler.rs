@@ -1,4 +1,6 @@
-//! Keyed random numbers: every uniform is a pure function of (seed, pose, photon, dimension).
+//! Keyed random numbers: every uniform is a pure function of (seed, stream, index, dimension)
+//! — for the light transport (seed, pose, photon, dimension), for the image sensor's noise
+//! (seed, pose, pixel, dimension).
 //!
 //! The hash is SplitMix64's finaliser (Steele, Lea & Flood, "Fast splittable pseudorandom
 //! number generators", OOPSLA 2014) applied to a combination of the key words; it passes
