@@ -242,6 +242,14 @@ impl Camera {
         Some(self.plane_to_pixel(&(lens + dir * t)))
     }
 
+    /// Image-side working f-number N_w = s_i / D for the laser-plane point (x, z) (m): the
+    /// image distance along the axis over the aperture diameter. It sets the size of the
+    /// diffraction spot and of speckle grains on the sensor (λ·N_w).
+    pub fn working_f_number(&self, x: f64, z: f64) -> f64 {
+        let image = self.conjugate(&Vector3::new(x, 0.0, z));
+        (self.center - image).dot(&self.axis).abs() / self.spec.aperture_diameter_m()
+    }
+
     /// The exact triangulation map: continuous pixel coordinates → (x, z) in the laser plane (m).
     pub fn pixel_to_laser_plane(&self, col: f64, row: f64) -> Option<(f64, f64)> {
         let pitch = self.spec.pixel_pitch_m;

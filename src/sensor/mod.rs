@@ -17,6 +17,7 @@ pub mod imager;
 pub mod preset;
 pub mod profile;
 pub mod projector;
+pub mod speckle;
 
 use camera::CameraSpec;
 use imager::ImagerSpec;
