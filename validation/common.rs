@@ -35,10 +35,14 @@ pub fn facing_plate(z_mm: f64, tilt_deg: f64) -> BoxSpec {
 }
 
 /// A world of boxes seen by the default scanCONTROL 2600-100 head, with the exposure set so
-/// that a white target at mid-range stays below full scale.
+/// that a white target at mid-range stays below full scale, noise and speckle off.
 pub fn world_of_boxes(boxes: &[BoxSpec]) -> World {
     let mut sensor = scancontrol_2600_100();
     sensor.imager.exposure_s = 0.02e-3;
+    // Analytic checks compare with exact geometry: no sensor noise, no speckle (the tests of
+    // those switch them on themselves).
+    sensor.imager.noise = false;
+    sensor.speckle = None;
     World {
         source: PathBuf::from("<analytic test world>"),
         objects: boxes

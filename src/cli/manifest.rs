@@ -9,6 +9,7 @@ use crate::geometry::pose::{pose_to_mm_deg, Pose};
 use crate::scan::simulate::PoseResult;
 use crate::scan::ScanConfig;
 use crate::scene::World;
+use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorConfig;
 use crate::transport::{TraceSettings, TraceStats};
 
@@ -66,8 +67,10 @@ pub struct PoseEntry {
     pub edge_point_mm: [f64; 3],
     /// Position of p_e along the border (fraction of its length).
     pub border_fraction: f64,
-    /// Valid points in the profile.
+    /// Valid points in the profile (all reflections in `all` mode).
     pub valid_points: usize,
+    /// Valid points per path class of their peak.
+    pub labels: std::collections::BTreeMap<String, usize>,
     /// Pixels at the ADC's full scale.
     pub saturated_pixels: usize,
     /// Transport counters.
@@ -78,7 +81,7 @@ pub struct PoseEntry {
 
 impl PoseEntry {
     /// Summarises a simulated pose.
-    pub fn new(r: &PoseResult, files: Vec<FileEntry>, full_scale_dn: u16) -> Self {
+    pub fn new(r: &PoseResult, files: Vec<FileEntry>) -> Self {
         let e = r.pose.edge_point * 1e3;
         PoseEntry {
             index: r.pose.index,
@@ -87,7 +90,20 @@ impl PoseEntry {
             edge_point_mm: [e.x, e.y, e.z],
             border_fraction: r.pose.border_fraction,
             valid_points: r.profile.points.iter().filter(|p| p.valid).count(),
-            saturated_pixels: r.image.data.iter().filter(|&&v| v >= full_scale_dn).count(),
+            labels: PathClass::ALL
+                .iter()
+                .map(|&c| {
+                    let n = r
+                        .profile
+                        .points
+                        .iter()
+                        .filter(|p| p.valid && p.label == Some(c))
+                        .count();
+                    (c.name().to_owned(), n)
+                })
+                .filter(|(_, n)| *n > 0)
+                .collect(),
+            saturated_pixels: r.saturated_pixels,
             stats: r.stats,
             files,
         }

@@ -13,6 +13,8 @@ use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::simulate_pose;
 use crate::scan::ScanConfig;
 use crate::scene;
+use crate::sensor::imager::SensorKind;
+use crate::sensor::profile::{PeakSelect, Threshold};
 use crate::sensor::SensorHead;
 use crate::transport::{PathClass, TraceScene, TraceSettings};
 
@@ -33,6 +35,18 @@ pub struct ScanArgs {
     /// Exposure time in milliseconds (> 0); overrides [sensor].
     #[arg(long, value_name = "E")]
     pub exposure_ms: Option<f64>,
+    /// Peak detection threshold in DN (0 … 2^adc_bits − 1), or `auto` for the automatic
+    /// threshold; overrides [sensor].
+    #[arg(long, value_name = "DN|auto")]
+    pub threshold: Option<String>,
+    /// Peak selection mode: all, first, last, largest_area, max_intensity, single; overrides
+    /// [sensor].
+    #[arg(long, value_name = "MODE")]
+    pub peak_select: Option<String>,
+    /// Image sensor kind: cmos (clips at the full well) or ccd (excess charge bleeds along the
+    /// column); overrides [sensor.imager].
+    #[arg(long, value_name = "KIND")]
+    pub sensor_kind: Option<String>,
     /// Master seed of all random numbers.
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
@@ -88,6 +102,41 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
             return Err(bad("exposure-ms", format!("must be > 0, got {e}")));
         }
         world.sensor.imager.exposure_s = e * 1e-3;
+    }
+    let max_dn = world.sensor.imager.max_dn();
+    if let Some(t) = &args.threshold {
+        world.sensor.firmware.threshold = if t.eq_ignore_ascii_case("auto") {
+            Threshold::Automatic
+        } else {
+            match t.parse::<u16>() {
+                Ok(v) if v <= max_dn => Threshold::Fixed(v),
+                _ => {
+                    return Err(bad(
+                        "threshold",
+                        format!(
+                        "must be `auto` or an integer in [0, {max_dn}] (2^adc_bits − 1), got {t:?}"
+                    ),
+                    ))
+                }
+            }
+        };
+    }
+    if let Some(m) = &args.peak_select {
+        world.sensor.firmware.peak_select = m
+            .parse::<PeakSelect>()
+            .map_err(|e| bad("peak-select", e.to_string()))?;
+    }
+    if let Some(k) = &args.sensor_kind {
+        world.sensor.imager.kind = match k.to_ascii_lowercase().as_str() {
+            "cmos" => SensorKind::Cmos,
+            "ccd" => SensorKind::Ccd,
+            _ => {
+                return Err(bad(
+                    "sensor-kind",
+                    format!("must be `cmos` or `ccd`, got {k:?}"),
+                ))
+            }
+        };
     }
     if args.photons < 1000 {
         return Err(bad(
@@ -199,7 +248,6 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
                 ),
                 FileEntry::new("profile", &csv, "CSV profile in the sensor frame, mm"),
             ],
-            world.sensor.imager.max_dn(),
         );
         if !cfg.json {
             eprintln!(

@@ -1,5 +1,10 @@
 //! Line profiles as CSV, one point per line after the header
-//! `column,row,x_mm,z_mm,intensity,width,valid`.
+//! `column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid`.
+//!
+//! The fields are the firmware's per-peak record (PARAMETERS.md §1b: width, maximum intensity,
+//! threshold, x, z, M0, M1, and the reflection slot 0…3), plus the sub-pixel row and the path
+//! class `label` (`PathClass::name()`, empty when unknown). Points are in the profile's order:
+//! column order, then reflection index.
 //!
 //! Floats are written with Rust's `Display`, which prints the shortest decimal that parses back
 //! to the same f64, so a written profile reads back bit for bit. Invalid points carry `NaN` in
@@ -11,19 +16,26 @@ use std::str::FromStr;
 
 use super::atomic::write_atomic;
 use super::DatasetError;
-use crate::sensor::profile::{Profile, ProfilePoint};
+use crate::sensor::path_class::PathClass;
+use crate::sensor::profile::{Profile, ProfilePoint, MAX_PEAKS};
 
 /// The header line, which is also the column order.
-pub const HEADER: &str = "column,row,x_mm,z_mm,intensity,width,valid";
+pub const HEADER: &str =
+    "column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid";
 
 /// The column names of [`HEADER`], for error messages.
-const COLUMNS: [&str; 7] = [
+const COLUMNS: [&str; 12] = [
     "column",
+    "reflection",
     "row",
     "x_mm",
     "z_mm",
     "intensity",
     "width",
+    "threshold",
+    "m0",
+    "m1",
+    "label",
     "valid",
 ];
 
@@ -44,16 +56,24 @@ struct CsvLine<'a>(&'a ProfilePoint);
 impl fmt::Display for CsvLine<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let p = self.0;
+        write!(f, "{},{},", p.column, p.reflection)?;
         if p.valid {
-            write!(
-                f,
-                "{},{},{},{},{},{},1",
-                p.column, p.row, p.x_mm, p.z_mm, p.intensity, p.width
-            )
+            write!(f, "{},{},{},", p.row, p.x_mm, p.z_mm)?;
         } else {
             // Whatever an invalid point's position fields hold, they mean "no measurement".
-            write!(f, "{},NaN,NaN,NaN,{},{},0", p.column, p.intensity, p.width)
+            f.write_str("NaN,NaN,NaN,")?;
         }
+        let label = p.label.map_or("", PathClass::name);
+        write!(
+            f,
+            "{},{},{},{},{},{label},{}",
+            p.intensity,
+            p.width,
+            p.threshold,
+            p.m0,
+            p.m1,
+            u8::from(p.valid)
+        )
     }
 }
 
@@ -96,18 +116,46 @@ fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoin
         expected,
         found: fields[index].to_string(),
     };
-    let valid = match fields[6] {
+    // Fields are checked left to right, so the first bad field is the one reported.
+    let column = parse_field(&fields, 0, "a non-negative integer", &error)?;
+    let reflection: u8 = parse_field(&fields, 1, "an integer from 0 to 3", &error)?;
+    if usize::from(reflection) >= MAX_PEAKS {
+        return Err(error(1, "an integer from 0 to 3"));
+    }
+    let row = parse_field(&fields, 2, "a number", &error)?;
+    let x_mm = parse_field(&fields, 3, "a number", &error)?;
+    let z_mm = parse_field(&fields, 4, "a number", &error)?;
+    let intensity = parse_field(&fields, 5, "an integer from 0 to 65535", &error)?;
+    let width = parse_field(&fields, 6, "an integer from 0 to 4294967295", &error)?;
+    let threshold = parse_field(&fields, 7, "an integer from 0 to 65535", &error)?;
+    let m0 = parse_field(&fields, 8, "a number", &error)?;
+    let m1 = parse_field(&fields, 9, "a number", &error)?;
+    let label = match fields[10] {
+        "" => None,
+        name => Some(
+            PathClass::ALL
+                .into_iter()
+                .find(|c| c.name() == name)
+                .ok_or_else(|| error(10, "a path class name (glass_face, table, …) or nothing"))?,
+        ),
+    };
+    let valid = match fields[11] {
         "0" => false,
         "1" => true,
-        _ => return Err(error(6, "0 or 1")),
+        _ => return Err(error(11, "0 or 1")),
     };
     Ok(ProfilePoint {
-        column: parse_field(&fields, 0, "a non-negative integer", &error)?,
-        row: parse_field(&fields, 1, "a number", &error)?,
-        x_mm: parse_field(&fields, 2, "a number", &error)?,
-        z_mm: parse_field(&fields, 3, "a number", &error)?,
-        intensity: parse_field(&fields, 4, "an integer from 0 to 65535", &error)?,
-        width: parse_field(&fields, 5, "an integer from 0 to 4294967295", &error)?,
+        column,
+        reflection,
+        row,
+        x_mm,
+        z_mm,
+        intensity,
+        width,
+        threshold,
+        m0,
+        m1,
+        label,
         valid,
     })
 }
@@ -129,11 +177,16 @@ mod tests {
     fn point(column: usize, row: f64, x_mm: f64, z_mm: f64) -> ProfilePoint {
         ProfilePoint {
             column,
+            reflection: 0,
             row,
             x_mm,
             z_mm,
-            intensity: 4095,
+            intensity: 1023,
             width: 3,
+            threshold: 128,
+            m0: 2500.0,
+            m1: 2500.0 * row,
+            label: None,
             valid: true,
         }
     }
@@ -141,11 +194,16 @@ mod tests {
     fn invalid(column: usize) -> ProfilePoint {
         ProfilePoint {
             column,
+            reflection: 0,
             row: f64::NAN,
             x_mm: f64::NAN,
             z_mm: f64::NAN,
             intensity: 0,
             width: 0,
+            threshold: 57,
+            m0: 0.0,
+            m1: 0.0,
+            label: None,
             valid: false,
         }
     }
@@ -161,27 +219,49 @@ mod tests {
     fn round_trip_is_bit_exact() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("profile.csv");
-        let profile = Profile {
-            points: vec![
-                point(0, 0.1, 1.0 / 3.0, -0.0),
-                invalid(1),
-                point(2, 511.5, 5e-324, f64::MAX),
-                point(3, 123.456_789_012_345_68, -1e-300, 1e300),
-                ProfilePoint {
-                    intensity: u16::MAX,
-                    width: u32::MAX,
-                    ..point(usize::MAX, 0.0, 2.0_f64.sqrt(), std::f64::consts::PI)
-                },
-            ],
-        };
+        let mut points = vec![
+            point(0, 0.1, 1.0 / 3.0, -0.0),
+            invalid(1),
+            point(2, 511.5, 5e-324, f64::MAX),
+            point(3, 123.456_789_012_345_68, -1e-300, 1e300),
+            ProfilePoint {
+                intensity: u16::MAX,
+                width: u32::MAX,
+                threshold: u16::MAX,
+                m0: 1.0 / 7.0,
+                m1: 1e-310,
+                reflection: 3,
+                label: Some(PathClass::InternalReflection),
+                ..point(usize::MAX, 0.0, 2.0_f64.sqrt(), std::f64::consts::PI)
+            },
+        ];
+        // Every class name, on the reflections of one column.
+        for (i, &class) in PathClass::ALL.iter().enumerate() {
+            points.push(ProfilePoint {
+                reflection: (i % MAX_PEAKS) as u8,
+                label: Some(class),
+                ..point(4, 10.0 + i as f64, -1.5, 200.25)
+            });
+        }
+        let profile = Profile { points };
         write_profile_csv(&path, &profile).unwrap();
         let read = read_profile_csv(&path).unwrap();
         assert_eq!(read.points.len(), profile.points.len());
+        let exact = |p: &ProfilePoint| {
+            (
+                p.column,
+                p.reflection,
+                p.intensity,
+                p.width,
+                p.threshold,
+                p.m0.to_bits(),
+                p.m1.to_bits(),
+                p.label,
+                p.valid,
+            )
+        };
         for (a, b) in read.points.iter().zip(&profile.points) {
-            assert_eq!(
-                (a.column, a.intensity, a.width, a.valid),
-                (b.column, b.intensity, b.width, b.valid)
-            );
+            assert_eq!(exact(a), exact(b));
             if b.valid {
                 let bits = |p: &ProfilePoint| [p.row, p.x_mm, p.z_mm].map(f64::to_bits);
                 assert_eq!(bits(a), bits(b));
@@ -196,44 +276,64 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("profile.csv");
         let profile = Profile {
-            points: vec![point(7, 10.5, -2.25, 100.0), invalid(8)],
+            points: vec![
+                point(7, 10.5, -2.25, 100.0),
+                ProfilePoint {
+                    reflection: 1,
+                    label: Some(PathClass::GlassEdge),
+                    ..point(7, 20.0, -2.25, 120.0)
+                },
+                invalid(8),
+            ],
         };
         write_profile_csv(&path, &profile).unwrap();
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
-            "column,row,x_mm,z_mm,intensity,width,valid\n\
-             7,10.5,-2.25,100,4095,3,1\n\
-             8,NaN,NaN,NaN,0,0,0\n"
+            "column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid\n\
+             7,0,10.5,-2.25,100,1023,3,128,2500,26250,,1\n\
+             7,1,20,-2.25,120,1023,3,128,2500,50000,glass_edge,1\n\
+             8,0,NaN,NaN,NaN,0,0,57,0,0,,0\n"
         );
     }
 
     #[test]
     fn crlf_and_missing_final_newline_are_accepted() {
         let (_dir, path) = write_text(&format!(
-            "{HEADER}\r\n1,2.5,3,4,5,6,1\r\n2,NaN,NaN,NaN,0,0,0"
+            "{HEADER}\r\n1,2,2.5,3,4,5,6,7,8,9,table,1\r\n2,0,NaN,NaN,NaN,0,0,128,0,0,,0"
         ));
         let read = read_profile_csv(&path).unwrap();
         assert_eq!(read.points.len(), 2);
         let expected = ProfilePoint {
+            column: 1,
+            reflection: 2,
+            row: 2.5,
+            x_mm: 3.0,
+            z_mm: 4.0,
             intensity: 5,
             width: 6,
-            ..point(1, 2.5, 3.0, 4.0)
+            threshold: 7,
+            m0: 8.0,
+            m1: 9.0,
+            label: Some(PathClass::Table),
+            valid: true,
         };
         assert_eq!(read.points[0], expected);
-        assert!(!read.points[1].valid);
+        assert!(!read.points[1].valid && read.points[1].threshold == 128);
     }
 
     #[test]
     fn truncated_line_reports_file_and_line() {
-        let (_dir, path) = write_text(&format!("{HEADER}\n0,1.5,2,3,100,4,1\n1,2.5,3"));
+        let (_dir, path) = write_text(&format!(
+            "{HEADER}\n0,0,1.5,2,3,100,4,128,1,1.5,,1\n1,0,2.5,3"
+        ));
         let err = read_profile_csv(&path).unwrap_err();
         assert!(
             matches!(
                 err,
                 DatasetError::CsvFieldCount {
                     line: 3,
-                    expected: 7,
-                    found: 3,
+                    expected: 12,
+                    found: 4,
                     ..
                 }
             ),
@@ -245,7 +345,7 @@ mod tests {
     #[test]
     fn bad_number_reports_file_line_and_column() {
         let (_dir, path) = write_text(&format!(
-            "{HEADER}\n0,1.5,2,3,100,4,1\n1,2.5,3,abc,100,4,1\n"
+            "{HEADER}\n0,0,1.5,2,3,100,4,128,1,1.5,,1\n1,0,2.5,3,abc,100,4,128,1,1.5,,1\n"
         ));
         let message = read_profile_csv(&path).unwrap_err().to_string();
         assert!(
@@ -255,13 +355,20 @@ mod tests {
     }
 
     #[test]
-    fn out_of_range_and_bad_flags_are_refused() {
+    fn out_of_range_and_bad_fields_are_refused() {
         for (line, column) in [
-            ("0,1,2,3,70000,4,1", "intensity"),
-            ("-1,1,2,3,7,4,1", "column"),
-            ("0,1,2,3,7,4,2", "valid"),
-            ("0,1,2,3,7,4,true", "valid"),
-            ("0,1,2,3,7,,1", "width"),
+            ("0,0,1,2,3,70000,4,128,1,1,,1", "intensity"),
+            ("-1,0,1,2,3,7,4,128,1,1,,1", "column"),
+            ("0,4,1,2,3,7,4,128,1,1,,1", "reflection"),
+            ("0,-1,1,2,3,7,4,128,1,1,,1", "reflection"),
+            ("0,0,1,2,3,7,4,1024000,1,1,,1", "threshold"),
+            ("0,0,1,2,3,7,4,128,x,1,,1", "m0"),
+            ("0,0,1,2,3,7,4,128,1,,,1", "m1"),
+            ("0,0,1,2,3,7,4,128,1,1,Table,1", "label"),
+            ("0,0,1,2,3,7,4,128,1,1,glass,1", "label"),
+            ("0,0,1,2,3,7,4,128,1,1,,2", "valid"),
+            ("0,0,1,2,3,7,4,128,1,1,,true", "valid"),
+            ("0,0,1,2,3,7,,128,1,1,,1", "width"),
         ] {
             let (_dir, path) = write_text(&format!("{HEADER}\n{line}\n"));
             let err = read_profile_csv(&path).unwrap_err();
@@ -277,8 +384,8 @@ mod tests {
     fn wrong_or_missing_header_is_refused() {
         for text in [
             "",
-            "column,row,x,z,intensity,width,valid\n",
-            "0,1,2,3,7,4,1\n",
+            "column,row,x_mm,z_mm,intensity,width,valid\n",
+            "0,0,1,2,3,7,4,128,1,1,,1\n",
         ] {
             let (_dir, path) = write_text(text);
             let err = read_profile_csv(&path).unwrap_err();

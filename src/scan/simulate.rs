@@ -1,8 +1,13 @@
-//! One scan pose end to end: light transport → exposure → profile.
+//! One scan pose end to end: light transport → coherent imaging (speckle) → image sensor
+//! (EMVA 1288 noise, full well) → profile firmware.
 
 use super::poses::ScanPose;
+use crate::sampler::PoseSampler;
+use crate::sensor::emva::frame_sampler;
 use crate::sensor::image::Image;
-use crate::sensor::profile::{extract, ExtractSettings, Profile};
+use crate::sensor::path_class::PathClass;
+use crate::sensor::profile::{extract, Profile};
+use crate::sensor::speckle::speckle_image;
 use crate::sensor::SensorHead;
 use crate::transport::{render, Irradiance, TraceScene, TraceSettings, TraceStats};
 
@@ -11,14 +16,60 @@ use crate::transport::{render, Irradiance, TraceScene, TraceSettings, TraceStats
 pub struct PoseResult {
     /// The pose.
     pub pose: ScanPose,
-    /// Irradiance on the image plane (W/m²), in total and per path class.
+    /// Irradiance on the image plane (W/m²), in total and per path class, after speckle.
     pub irradiance: Irradiance,
     /// Digital image (DN, `imager.adc_bits` wide).
     pub image: Image<u16>,
+    /// Pixels at the full well or at the ADC's full scale.
+    pub saturated_pixels: usize,
     /// The extracted profile.
     pub profile: Profile,
     /// Transport counters.
     pub stats: TraceStats,
+}
+
+/// Stream of the speckle phases: apart from the transport's (the pose index) and the sensor
+/// noise's (`frame_sampler`) streams.
+const SPECKLE_STREAM: u64 = 0x5bec_1e00_0000_0000;
+
+/// Replaces every class but glints by its coherent image (speckle and diffraction). Glints come
+/// from polished faces (no speckle) and their diffraction spot (1.22·λ·N ≈ 2 µm) is far below
+/// a pixel, so they stay as traced.
+fn apply_speckle(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPose, seed: u64) {
+    let Some(settings) = head.config.speckle else {
+        return;
+    };
+    let cam = &head.camera;
+    let range = &head.config.range;
+    let f_number = cam.working_f_number(0.0, range.z_mid_m());
+    let mut total = irradiance.by_class[PathClass::Glint.index()].clone();
+    for class in PathClass::ALL {
+        if class == PathClass::Glint {
+            continue;
+        }
+        let layer = &mut irradiance.by_class[class.index()];
+        if layer.data.iter().all(|&v| v == 0.0) {
+            continue;
+        }
+        // One coherent image per class: light of different paths adds in intensity here
+        // (a simplification: it would interfere where two classes overlap).
+        let class_sampler = PoseSampler::new(
+            seed ^ ((class.index() as u64) << 56),
+            SPECKLE_STREAM ^ pose.index as u64,
+        );
+        *layer = speckle_image(
+            layer,
+            head.config.laser.wavelength_m,
+            f_number,
+            cam.spec().pixel_pitch_m,
+            &settings,
+            &class_sampler,
+        );
+        for (t, v) in total.data.iter_mut().zip(&layer.data) {
+            *t += v;
+        }
+    }
+    irradiance.total = total;
 }
 
 /// Simulates the sensor `head` at `pose`.
@@ -28,25 +79,26 @@ pub fn simulate_pose(
     pose: &ScanPose,
     settings: &TraceSettings,
 ) -> PoseResult {
-    let (irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
+    let (mut irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
+    apply_speckle(&mut irradiance, head, pose, settings.seed);
     let cfg = &head.config;
-    let image = cfg.imager.expose(
+    let exposure = cfg.imager.expose_noisy(
         &irradiance.total,
         head.camera.pixel_area(),
         cfg.laser.wavelength_m,
+        &frame_sampler(settings.seed, pose.index as u64),
     );
     let profile = extract(
-        &image,
+        &exposure.dn,
+        Some(&irradiance.by_class),
         &head.camera,
-        &ExtractSettings {
-            threshold_dn: cfg.threshold_dn,
-            points_per_profile: cfg.points_per_profile,
-        },
+        &cfg.firmware,
     );
     PoseResult {
         pose: pose.clone(),
         irradiance,
-        image,
+        image: exposure.dn,
+        saturated_pixels: exposure.saturated,
         profile,
         stats,
     }

@@ -188,6 +188,18 @@ pub(crate) struct SensorDef {
     pub x_width_mm: Option<Num>,
     pub points_per_profile: Option<Int>,
     pub threshold_dn: Option<Int>,
+    /// The firmware's automatic threshold instead of `threshold_dn`.
+    pub auto_threshold: Option<Spanned<bool>>,
+    /// Peak selection mode: all, first, last, largest_area, max_intensity, single.
+    pub peak_select: Option<Spanned<String>>,
+    /// Peak filter on the width (px): [min, max].
+    pub peak_width_px: Option<Spanned<[Int; 2]>>,
+    /// Peak filter on the maximum intensity (DN): [min, max].
+    pub peak_intensity_dn: Option<Spanned<[Int; 2]>>,
+    /// Laser speckle on rough returns (default true).
+    pub speckle: Option<Spanned<bool>>,
+    /// Speckle contrast C in (0, 1].
+    pub speckle_contrast: Option<Num>,
     pub exposure_ms: Option<Num>,
     pub camera: Option<Spanned<CameraDef>>,
     pub imager: Option<Spanned<ImagerDef>>,
@@ -242,6 +254,22 @@ pub(crate) struct ImagerDef {
     pub full_well_e: Option<Num>,
     pub gain_dn_per_e: Option<Num>,
     pub adc_bits: Option<Int>,
+    /// `"cmos"` (clip at the full well) or `"ccd"` (spill along the column).
+    pub sensor_kind: Option<Spanned<SensorKindDef>>,
+    pub dark_current_e_per_s: Option<Num>,
+    pub read_noise_e: Option<Num>,
+    pub dark_offset_dn: Option<Num>,
+    pub prnu: Option<Num>,
+    pub dsnu_e: Option<Num>,
+    pub noise: Option<Spanned<bool>>,
+}
+
+/// The image sensor's technology, for what happens above the full well.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub(crate) enum SensorKindDef {
+    Cmos,
+    Ccd,
 }
 
 /// `[scan]`.

@@ -8,9 +8,13 @@ use std::ops::Range;
 use serde_spanned::Spanned;
 
 use super::error::{SceneError, SceneSource};
-use super::file::{CameraDef, ImagerDef, LineProfileDef, PolarizationDef, SensorDef};
+use super::file::{
+    CameraDef, ImagerDef, LineProfileDef, PolarizationDef, SensorDef, SensorKindDef,
+};
 use crate::sensor::camera::Camera;
+use crate::sensor::imager::SensorKind;
 use crate::sensor::preset;
+use crate::sensor::profile::{PeakSelect, Threshold};
 use crate::sensor::projector::{LineProfile, Polarization};
 use crate::sensor::SensorConfig;
 
@@ -128,9 +132,10 @@ pub(crate) fn resolve_sensor(
     }
 
     if let Some(v) = &def.points_per_profile {
-        s.points_per_profile = src.integer(v, "sensor.points_per_profile", 1, 65_536)? as usize;
+        s.firmware.points_per_profile =
+            src.integer(v, "sensor.points_per_profile", 1, 65_536)? as usize;
     }
-    let (columns, points) = (s.camera.columns, s.points_per_profile);
+    let (columns, points) = (s.camera.columns, s.firmware.points_per_profile);
     if points > columns || columns % points != 0 {
         let columns_span = def
             .camera
@@ -168,8 +173,8 @@ pub(crate) fn resolve_sensor(
             ));
         }
         // adc_bits ≤ 16, so t ≤ 65535 fits.
-        s.threshold_dn = t as u16;
-    } else if i64::from(s.threshold_dn) > max_dn {
+        s.firmware.threshold = Threshold::Fixed(t as u16);
+    } else if let Some(preset_t) = fixed_threshold_above(&s.firmware.threshold, max_dn) {
         let span = def
             .imager
             .as_ref()
@@ -179,11 +184,64 @@ pub(crate) fn resolve_sensor(
             &span,
             "sensor.imager.adc_bits",
             format!(
-                "must leave the preset's threshold_dn = {} ≤ 2^adc_bits − 1 = {max_dn}; \
-                 lower sensor.threshold_dn too",
-                s.threshold_dn
+                "must leave the preset's threshold_dn = {preset_t} ≤ 2^adc_bits − 1 = {max_dn}; \
+                 lower sensor.threshold_dn too"
             ),
         ));
+    }
+
+    if let Some(v) = &def.auto_threshold {
+        if *v.get_ref() {
+            s.firmware.threshold = Threshold::Automatic;
+        }
+    }
+    if let Some(v) = &def.peak_select {
+        s.firmware.peak_select = v
+            .get_ref()
+            .parse::<PeakSelect>()
+            .map_err(|e| src.invalid(&v.span(), "sensor.peak_select", e.to_string()))?;
+    }
+    if let Some(v) = &def.peak_width_px {
+        let [lo, hi] = [&v.get_ref()[0], &v.get_ref()[1]]
+            .map(|n| src.integer(n, "sensor.peak_width_px", 0, 1023));
+        let (lo, hi) = (lo?, hi?);
+        if lo > hi {
+            return Err(src.invalid(
+                &v.span(),
+                "sensor.peak_width_px",
+                format!("must be [min, max] with min ≤ max, got [{lo}, {hi}]"),
+            ));
+        }
+        s.firmware.width_range_px = (lo as u32, hi as u32);
+    }
+    if let Some(v) = &def.peak_intensity_dn {
+        let [lo, hi] = [&v.get_ref()[0], &v.get_ref()[1]]
+            .map(|n| src.integer(n, "sensor.peak_intensity_dn", 0, max_dn));
+        let (lo, hi) = (lo?, hi?);
+        if lo > hi {
+            return Err(src.invalid(
+                &v.span(),
+                "sensor.peak_intensity_dn",
+                format!("must be [min, max] with min ≤ max, got [{lo}, {hi}]"),
+            ));
+        }
+        s.firmware.intensity_range_dn = (lo as u16, hi as u16);
+    }
+    if let Some(v) = &def.speckle {
+        if !*v.get_ref() {
+            s.speckle = None;
+        }
+    }
+    if let Some(v) = &def.speckle_contrast {
+        let c = src.number(
+            v,
+            "sensor.speckle_contrast",
+            |c| c > 0.0 && c <= 1.0,
+            "must be in (0, 1]",
+        )?;
+        if let Some(sp) = &mut s.speckle {
+            sp.contrast = c;
+        }
     }
 
     // The camera must image the whole measuring range onto its pixel grid; overriding the
@@ -259,6 +317,46 @@ fn apply_imager(i: &ImagerDef, s: &mut SensorConfig, src: &SceneSource) -> Resul
         // 16 bits is the most a `u16` image and `threshold_dn` hold.
         im.adc_bits = src.integer(v, "sensor.imager.adc_bits", 8, 16)? as u32;
     }
+    if let Some(k) = &i.sensor_kind {
+        im.kind = match k.get_ref() {
+            SensorKindDef::Cmos => SensorKind::Cmos,
+            SensorKindDef::Ccd => SensorKind::Ccd,
+        };
+    }
+    if let Some(v) = &i.dark_current_e_per_s {
+        im.dark_current_e_per_s = src.non_negative(v, "sensor.imager.dark_current_e_per_s")?;
+    }
+    if let Some(v) = &i.read_noise_e {
+        im.read_noise_e = src.non_negative(v, "sensor.imager.read_noise_e")?;
+    }
+    if let Some(v) = &i.dark_offset_dn {
+        // Checked against the ADC range after any adc_bits override above.
+        let max_dn = f64::from(im.max_dn());
+        im.dark_offset_dn = src.number(
+            v,
+            "sensor.imager.dark_offset_dn",
+            |d| (0.0..=max_dn).contains(&d),
+            &format!(
+                "must be in [0, 2^adc_bits − 1 = {max_dn}] (adc_bits = {})",
+                im.adc_bits
+            ),
+        )?;
+    }
+    if let Some(v) = &i.prnu {
+        // A relative gain spread of 100 % would make many gains negative.
+        im.prnu = src.number(
+            v,
+            "sensor.imager.prnu",
+            |p| (0.0..1.0).contains(&p),
+            "must be in [0, 1) (a relative standard deviation: 0.01 = 1 %)",
+        )?;
+    }
+    if let Some(v) = &i.dsnu_e {
+        im.dsnu_e = src.non_negative(v, "sensor.imager.dsnu_e")?;
+    }
+    if let Some(v) = &i.noise {
+        im.noise = *v.get_ref();
+    }
     Ok(())
 }
 
@@ -281,6 +379,14 @@ fn blame(
             "sensor.preset",
             candidates.first().map_or(String::new(), |c| c.2.clone()),
         ),
+    }
+}
+
+/// The fixed threshold of `t`, if it is above `max_dn`.
+fn fixed_threshold_above(t: &Threshold, max_dn: i64) -> Option<u16> {
+    match *t {
+        Threshold::Fixed(v) if i64::from(v) > max_dn => Some(v),
+        _ => None,
     }
 }
 
@@ -326,8 +432,8 @@ mod tests {
             "half the full width"
         );
         assert!((s.imager.exposure_s - 2e-3).abs() < 1e-15);
-        assert_eq!(s.threshold_dn, 50);
-        assert_eq!(s.points_per_profile, 320);
+        assert_eq!(s.firmware.threshold, Threshold::Fixed(50));
+        assert_eq!(s.firmware.points_per_profile, 320);
         assert_eq!(s.camera.f_number, 4.0);
         assert_eq!(s.imager.adc_bits, 12);
         assert!(
@@ -444,6 +550,80 @@ mod tests {
         let m = err("[sensor]\npreset = \"scancontrol-2600-100\"\nz_min_mm = 400\n");
         assert!(
             m.contains("s.toml:3:12: sensor.z_min_mm must be < z_max_mm = 390, got 400"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn imager_noise_overrides_are_merged() {
+        let base = preset::scancontrol_2600_100().imager;
+        assert_eq!(base.kind, SensorKind::Cmos);
+        assert!(base.noise);
+        let s = resolve(
+            "[sensor]\npreset = \"scancontrol-2600-100\"\n[sensor.imager]\n\
+             sensor_kind = \"ccd\"\ndark_current_e_per_s = 50\nread_noise_e = 7.5\n\
+             dark_offset_dn = 16\nprnu = 0.02\ndsnu_e = 0\nnoise = false\n",
+        )
+        .expect("valid imager overrides");
+        let im = s.imager;
+        assert_eq!(im.kind, SensorKind::Ccd);
+        assert_eq!(im.dark_current_e_per_s, 50.0);
+        assert_eq!(im.read_noise_e, 7.5);
+        assert_eq!(im.dark_offset_dn, 16.0);
+        assert_eq!(im.prnu, 0.02);
+        assert_eq!(im.dsnu_e, 0.0);
+        assert!(!im.noise);
+        // Untouched imager fields keep the preset's values.
+        assert_eq!(im.full_well_e, base.full_well_e);
+        assert_eq!(im.gain_dn_per_e, base.gain_dn_per_e);
+    }
+
+    #[test]
+    fn bad_imager_noise_values_are_rejected_where_they_stand() {
+        let imager = "[sensor]\npreset = \"scancontrol-2600-100\"\n[sensor.imager]\n";
+        let cases = [
+            (
+                "read_noise_e = -1\n",
+                "s.toml:4:16: sensor.imager.read_noise_e must be ≥ 0, got -1",
+            ),
+            (
+                "dark_current_e_per_s = nan\n",
+                "s.toml:4:24: sensor.imager.dark_current_e_per_s must be a finite number, got NaN",
+            ),
+            (
+                "prnu = 1.5\n",
+                "s.toml:4:8: sensor.imager.prnu must be in [0, 1) (a relative standard \
+                 deviation: 0.01 = 1 %), got 1.5",
+            ),
+            (
+                "dsnu_e = -0.5\n",
+                "s.toml:4:10: sensor.imager.dsnu_e must be ≥ 0, got -0.5",
+            ),
+            (
+                "dark_offset_dn = 1024\n",
+                "s.toml:4:18: sensor.imager.dark_offset_dn must be in [0, 2^adc_bits − 1 = \
+                 1023] (adc_bits = 10), got 1024",
+            ),
+            // The limit follows an adc_bits override.
+            (
+                "adc_bits = 8\ndark_offset_dn = 300\n",
+                "s.toml:5:18: sensor.imager.dark_offset_dn must be in [0, 2^adc_bits − 1 = \
+                 255] (adc_bits = 8), got 300",
+            ),
+        ];
+        for (text, expected) in cases {
+            let m = err(&format!("{imager}{text}"));
+            assert!(m.starts_with(expected), "{m}\nexpected: {expected}");
+        }
+        let m = err(&format!("{imager}sensor_kind = \"cmos2\"\n"));
+        assert!(
+            m.starts_with("s.toml:4:15: sensor.imager") && m.contains("cmos2"),
+            "{m}"
+        );
+        assert!(m.contains("`cmos`") && m.contains("`ccd`"), "{m}");
+        let m = err(&format!("{imager}noise = 1\n"));
+        assert!(
+            m.starts_with("s.toml:4:9: sensor.imager") && m.contains("bool"),
             "{m}"
         );
     }

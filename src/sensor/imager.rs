@@ -1,15 +1,33 @@
 //! The image sensor: irradiance (W/m²) → photons → electrons → digital numbers (DN).
 //!
 //! EMVA 1288 linear model (PARAMETERS.md §2a): μ_p = A·E·t_exp·λ/(h·c), μ_e = η·μ_p, clipped at
-//! the full well, μ_y = K·μ_e, clipped to 2^bits − 1. This is the noise-free part of the model;
-//! shot, dark and read noise, PRNU/DSNU and blooming belong to the sensor-realism issue (#4).
+//! the full well, μ_y = K·μ_e, clipped to 2^bits − 1. [`ImagerSpec::expose`] is that noise-free
+//! mean model; [`ImagerSpec::expose_noisy`] adds shot, dark and read noise, PRNU/DSNU, the black
+//! level, quantisation and blooming (`emva`, `bloom`), and falls back to `expose` when
+//! `noise` is off.
+
+use super::emva::{self, Exposure};
+use super::image::Image;
+use crate::sampler::PoseSampler;
+
+/// What the sensor does with charge above the full well (PARAMETERS.md §2c).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SensorKind {
+    /// CMOS: pixels are read independently; a pixel clips at the full well and the excess is
+    /// drained, so the overflow never reaches a neighbour.
+    Cmos,
+    /// CCD without anti-blooming drain: the excess spills up and down its column (a vertical
+    /// bleed trail, as LSST imSim's bleed trails), conserving charge.
+    Ccd,
+}
 
 /// Parameters of the image sensor.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ImagerSpec {
     /// Quantum efficiency η at the laser wavelength, in (0, 1].
     pub quantum_efficiency: f64,
-    /// Full-well capacity (e⁻), > 0.
+    /// Full-well capacity μ_e,sat (e⁻), > 0.
     pub full_well_e: f64,
     /// Overall system gain K (DN per e⁻), > 0.
     pub gain_dn_per_e: f64,
@@ -17,9 +35,24 @@ pub struct ImagerSpec {
     pub adc_bits: u32,
     /// Exposure (shutter) time (s), > 0.
     pub exposure_s: f64,
+    /// CMOS (clip at the full well) or CCD (spill along the column).
+    pub kind: SensorKind,
+    /// Dark current μ_I (e⁻/s per pixel, at the operating temperature), ≥ 0.
+    pub dark_current_e_per_s: f64,
+    /// Temporal dark (read) noise σ_d0 (e⁻ rms), ≥ 0.
+    pub read_noise_e: f64,
+    /// Black level added before quantisation (DN), 0 … 2^bits − 1.
+    pub dark_offset_dn: f64,
+    /// Photo-response non-uniformity: relative standard deviation of the fixed per-pixel gain
+    /// map, in [0, 1) (0.01 = 1 %).
+    pub prnu: f64,
+    /// Dark-signal non-uniformity: standard deviation of the fixed per-pixel dark offset map
+    /// (e⁻), ≥ 0.
+    pub dsnu_e: f64,
+    /// Noise on: `expose_noisy` simulates the EMVA 1288 camera. Off: it returns the noise-free
+    /// mean model of `expose` (used where a test needs exact, noiseless images).
+    pub noise: bool,
 }
-
-use super::image::Image;
 
 /// Planck constant (J·s), CODATA 2018 exact value.
 pub const PLANCK_J_S: f64 = 6.626_070_15e-34;
@@ -62,6 +95,21 @@ impl ImagerSpec {
                 .map(|&e| self.digitize(self.photons(e, pixel_area_m2, wavelength_m)))
                 .collect(),
         }
+    }
+
+    /// Exposes an irradiance image (W/m², on pixels of `pixel_area_m2` at `wavelength_m`) with
+    /// the EMVA 1288 noise model (`emva`): shot noise, dark current, read noise, PRNU/DSNU,
+    /// black level, dithered quantisation, and CMOS clipping or CCD blooming. The temporal
+    /// noise is keyed by `sampler` (use `emva::frame_sampler(seed, pose)`); the fixed pattern
+    /// is the same for every frame. With `noise` off, `dn` equals [`ImagerSpec::expose`].
+    pub fn expose_noisy(
+        &self,
+        irradiance: &Image<f64>,
+        pixel_area_m2: f64,
+        wavelength_m: f64,
+        sampler: &PoseSampler,
+    ) -> Exposure {
+        emva::expose(self, irradiance, pixel_area_m2, wavelength_m, sampler)
     }
 }
 

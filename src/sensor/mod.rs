@@ -11,9 +11,12 @@
 //!
 //! Units: SI inside (m, s, W, rad). Images are row-major, row 0 at the top (near range).
 
+pub mod bloom;
 pub mod camera;
+pub mod emva;
 pub mod image;
 pub mod imager;
+pub mod path_class;
 pub mod preset;
 pub mod profile;
 pub mod projector;
@@ -54,10 +57,10 @@ pub struct SensorConfig {
     pub imager: ImagerSpec,
     /// Nominal measuring range.
     pub range: MeasuringRange,
-    /// Points per profile (80…640 in steps of 80 on a 26xx; must divide `camera.columns`).
-    pub points_per_profile: usize,
-    /// Peak detection threshold (DN, 0…2^bits − 1).
-    pub threshold_dn: u16,
+    /// The profile firmware: threshold, peak filters, selection mode, points per profile.
+    pub firmware: profile::FirmwareSettings,
+    /// Laser speckle and diffraction on rough-surface returns; `None` = incoherent image.
+    pub speckle: Option<speckle::SpeckleSettings>,
 }
 
 /// A sensor configuration with its camera built (the Scheimpflug plane solved once).

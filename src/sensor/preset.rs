@@ -1,8 +1,10 @@
 //! Named sensor presets. Every number cites PARAMETERS.md (shared/), with its confidence.
 
 use super::camera::CameraSpec;
-use super::imager::ImagerSpec;
+use super::imager::{ImagerSpec, SensorKind};
+use super::profile::{FirmwareSettings, DRIVER_DEFAULT_THRESHOLD_DN};
 use super::projector::{LaserSheet, LineProfile, Polarization};
+use super::speckle::SpeckleSettings;
 use super::{MeasuringRange, SensorConfig};
 
 /// Names accepted by [`by_name`].
@@ -31,6 +33,13 @@ pub fn by_name(name: &str) -> Option<SensorConfig> {
 /// - Imager: QE 0.5 at 658 nm (§2b, L); full well 15 000 e⁻ (§2b emva1288 default, M); 10-bit
 ///   ADC, K = 1023/15 000 DN/e⁻ so the full well maps to full scale (§1a/§2b); exposure
 ///   0.5 ms (§1a driver default, M); threshold 128 DN (§1a driver default, H).
+/// - Imager noise (EMVA 1288, §2a): CMOS, clipping at the full well without spill (§2c
+///   simulator default; the sensor type is not published, §1c, L). Read noise σ_d0 = 10 e⁻,
+///   inside the 7–13 e⁻ of §2b (IMX174 6.83 H, ICX625 8.28–13 H, CMV2000 ~13 L; M as a
+///   choice). Dark current 125 e⁻/s (CMV300 datasheet, §2b, H for that sensor, M by analogy):
+///   0.06 e⁻ in 0.5 ms. Black level 0 DN (`EMVA1288/emva1288` `camera.py` default
+///   `blackoffset = 0`, M; the head's own black level is not published). PRNU 1 % and DSNU
+///   3 e⁻: typical magnitudes, no datasheet (L). Noise on.
 pub fn scancontrol_2600_100() -> SensorConfig {
     SensorConfig {
         preset: "scancontrol-2600-100".to_owned(),
@@ -60,13 +69,23 @@ pub fn scancontrol_2600_100() -> SensorConfig {
             gain_dn_per_e: 1023.0 / 15_000.0,
             adc_bits: 10,
             exposure_s: 0.5e-3,
+            kind: SensorKind::Cmos,
+            dark_current_e_per_s: 125.0,
+            read_noise_e: 10.0,
+            dark_offset_dn: 0.0,
+            prnu: 0.01,
+            dsnu_e: 3.0,
+            noise: true,
         },
         range: MeasuringRange {
             z_min_m: 0.125,
             z_max_m: 0.390,
             x_width_m: 0.1435,
         },
-        points_per_profile: 640,
-        threshold_dn: 128,
+        firmware: FirmwareSettings::scancontrol_default(DRIVER_DEFAULT_THRESHOLD_DN),
+        speckle: Some(SpeckleSettings {
+            contrast: 1.0,
+            oversampling: 8,
+        }),
     }
 }

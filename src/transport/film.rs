@@ -1,7 +1,7 @@
 //! The film: flux splats collected per chunk of photons, summed in chunk order, per path class.
 
-use super::path::PathClass;
 use crate::sensor::image::Image;
+use crate::sensor::path_class::PathClass;
 
 /// Flux deposited on one pixel by one camera connection or glint.
 #[derive(Clone, Copy, Debug, PartialEq)]

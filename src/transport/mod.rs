@@ -31,11 +31,10 @@ pub mod connect;
 pub mod film;
 pub mod interaction;
 pub mod lens;
-pub mod path;
 pub mod scene;
 pub mod trace;
 
+pub use crate::sensor::path_class::PathClass;
 pub use film::Irradiance;
-pub use path::PathClass;
 pub use scene::{TraceScene, TransportError};
 pub use trace::{render, TraceSettings, TraceStats};

@@ -7,7 +7,6 @@ use super::connect::connect;
 use super::film::{develop, Irradiance, Splat};
 use super::interaction::{scatter_rough, scatter_smooth, RoughVertex, SmoothOutcome};
 use super::lens::Aperture;
-use super::path::PathClass;
 use super::scene::{GlassSurface, SurfaceModel, TraceScene};
 use crate::geometry::accel::Hit;
 use crate::geometry::mesh::SurfacePart;
@@ -16,6 +15,8 @@ use crate::optics::lambert::Lambertian;
 use crate::optics::polarization::Stokes;
 use crate::optics::warp::concentric_disk;
 use crate::sampler::PoseSampler;
+use crate::scene::world::ObjectLabel;
+use crate::sensor::path_class::PathClass;
 use crate::sensor::projector::Polarization;
 use crate::sensor::SensorHead;
 
@@ -269,7 +270,7 @@ impl Tracer<'_> {
         let class = if photon.crossed_glass {
             PathClass::ThroughGlass
         } else {
-            PathClass::of_opaque(self.scene.labels[hit.object as usize])
+            opaque_class(self.scene.labels[hit.object as usize])
         };
         self.connect_vertex(
             photon,
@@ -473,6 +474,15 @@ impl Tracer<'_> {
             }
             _ => self.stats.off_sensor += 1,
         }
+    }
+}
+
+/// The class of light returned directly (no glass on the path) by an opaque object.
+fn opaque_class(label: ObjectLabel) -> PathClass {
+    match label {
+        ObjectLabel::Table => PathClass::Table,
+        ObjectLabel::Tape | ObjectLabel::Cover => PathClass::TapeCover,
+        ObjectLabel::Background | ObjectLabel::Other => PathClass::Background,
     }
 }
 

@@ -1,6 +1,9 @@
 //! Analytic physics checks.
 
+mod firmware;
 mod glass;
 mod optics;
 mod radiometry;
+mod sensor_noise;
+mod speckle;
 mod triangulation;

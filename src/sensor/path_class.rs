@@ -1,7 +1,6 @@
-//! Path classes: what produced a contribution on the sensor. Every splat carries one, and the
-//! irradiance is also written as one image per class.
-
-use crate::scene::world::ObjectLabel;
+//! Path classes: what produced a contribution on the sensor. Every splat of the light transport
+//! carries one, the irradiance is also written as one image per class, and each profile peak
+//! is labelled with the class that dominates it.
 
 /// The class of a light path, decided at the vertex that connects to the camera (or at the
 /// aperture, for a glint).
@@ -58,15 +57,6 @@ impl PathClass {
             PathClass::Table => "table",
             PathClass::TapeCover => "tape_cover",
             PathClass::Background => "background",
-        }
-    }
-
-    /// The class of light returned directly (no glass on the path) by an opaque object.
-    pub fn of_opaque(label: ObjectLabel) -> PathClass {
-        match label {
-            ObjectLabel::Table => PathClass::Table,
-            ObjectLabel::Tape | ObjectLabel::Cover => PathClass::TapeCover,
-            ObjectLabel::Background | ObjectLabel::Other => PathClass::Background,
         }
     }
 }

@@ -1,0 +1,464 @@
+//! The image sensor's noise: an EMVA 1288 camera simulation, irradiance → noisy digital image.
+//!
+//! Model (EMVA 1288 linear model, PARAMETERS.md §2a; the steps of the reference simulator
+//! `EMVA1288/emva1288`, `emva1288/camera/camera.py` `Camera.grab`), for pixel i:
+//!
+//! 1. mean photons μ_p = A·E·t_exp·λ/(h·c) ([`ImagerSpec::photons`]);
+//! 2. collected charge q = Poisson(η·μ_p·g_i) + Poisson(μ_I·t_exp), with g_i = 1 + PRNU·n_i the
+//!    fixed per-pixel gain map (camera.py `_u_e`: `qe · prnu · photons`) and μ_I the dark current;
+//! 3. charge above the full well μ_e,sat: a CMOS pixel clips, a CCD spills it along its column
+//!    (`bloom`, PARAMETERS.md §2c);
+//! 4. readout: s = q + N(0, σ_d0²) + d_i, with d_i = DSNU·n′_i the fixed per-pixel dark offset
+//!    map (e⁻);
+//! 5. y = K·s + black level, rounded and clipped to [0, 2^bits − 1] (camera.py:
+//!    `img = K·img_e; img += blackoffset; rint; clip`, without camera.py's uniform dither: a
+//!    real ADC does not dither, and EMVA 1288's σ_q² = 1/12 DN² assumes it does not).
+//!
+//! Where this differs from camera.py, and why:
+//! - Read noise and DSNU are added after the full well, not before: they belong to the readout
+//!   electronics, not to the charge in the well, so blooming moves only collected charge and a
+//!   saturated pixel still shows read noise. camera.py also clips electrons at 0; here the only
+//!   low clip is the ADC's at 0 DN (the black level keeps the dark noise above it).
+//! - camera.py's mean electronic offset `dark_signal_0` (e⁻) is folded into the black level
+//!   `dark_offset_dn`; the dark current has no temperature law (μ_I is the value at the
+//!   operating temperature).
+//!
+//! Temporal variance that follows (EMVA 1288, PARAMETERS.md §2a):
+//! σ_y² = K²·(σ_d0² + μ_I·t_exp) + σ_q² + K·(μ_y − μ_y,dark), σ_q² = 1/12 DN². (camera.py's
+//! rectangular dither before rounding would make it 1/6: the ADC's 1/12 plus the dither's.)
+//!
+//! Randomness (STYLE.md §1.6): every draw is `sampler.uniform(pixel_key(c, r), dimension)`
+//! with a fixed dimension per noise term — see [`DIM_PHOTO`], [`DIM_DARK`], [`DIM_READ`]. The PRNU and DSNU maps belong to the sensor, not the frame: they are keyed
+//! by the constant ([`FIXED_PATTERN_SEED`], [`FIXED_PATTERN_STREAM`]), the same for every
+//! frame, pose and run seed. Pixels are independent, so the result does not depend on the
+//! thread count.
+
+use rayon::prelude::*;
+
+use super::bloom;
+use super::image::Image;
+use super::imager::{ImagerSpec, SensorKind};
+use crate::sampler::{mix64, PoseSampler};
+
+/// What one exposure produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Exposure {
+    /// The digital image (DN, 0 … 2^bits − 1).
+    pub dn: Image<u16>,
+    /// Collected charge per pixel (e⁻) after the full well (CMOS clip or CCD bleed), before
+    /// read noise, DSNU and gain.
+    pub electrons: Image<f64>,
+    /// Pixels at the full well or at the ADC's full scale.
+    pub saturated: usize,
+    /// Charge removed by the full well (e⁻): drained by CMOS pixels, or bled off the top and
+    /// bottom rows of a CCD.
+    pub lost_e: f64,
+}
+
+/// Poisson means below this are drawn by inversion (one uniform), from it up by PTRS.
+pub const INVERSION_MAX_MEAN: f64 = 30.0;
+/// Most PTRS trials per draw; each trial takes two uniforms. A trial is accepted with
+/// probability α ≈ 1/(1.1239 + 1.1328/(b − 3.4)), b = 0.931 + 2.53·√μ (the inverse of the
+/// hat's area, Hörmann 1993): measured 0.81 at μ = 30 and 0.89 at μ = 10⁵, so running out has
+/// probability < 10⁻²³; the draw then returns the rounded mean.
+pub const PTRS_MAX_TRIALS: u32 = 32;
+/// Dimensions reserved for one Poisson draw.
+pub const POISSON_DIMS: u32 = 2 * PTRS_MAX_TRIALS;
+
+/// Photo-electrons: dimensions `DIM_PHOTO .. DIM_PHOTO + POISSON_DIMS` (0…63).
+pub const DIM_PHOTO: u32 = 0;
+/// Dark-current electrons: `DIM_DARK .. DIM_DARK + POISSON_DIMS` (64…127).
+pub const DIM_DARK: u32 = DIM_PHOTO + POISSON_DIMS;
+/// Read noise (Box–Muller): `DIM_READ`, `DIM_READ + 1` (128, 129).
+pub const DIM_READ: u32 = DIM_DARK + POISSON_DIMS;
+
+/// Seed of the sensor's fixed pattern (PRNU and DSNU maps): one simulated sensor unit.
+pub const FIXED_PATTERN_SEED: u64 = 1288;
+/// Stream of the fixed pattern (no pose uses it).
+pub const FIXED_PATTERN_STREAM: u64 = u64::MAX;
+/// PRNU map (Box–Muller): fixed-pattern dimensions 0, 1.
+pub const DIM_PRNU: u32 = 0;
+/// DSNU map (Box–Muller): fixed-pattern dimensions 2, 3.
+pub const DIM_DSNU: u32 = 2;
+
+/// Mixed into the run seed by [`frame_sampler`], so that the sensor's noise never reuses the
+/// light transport's uniforms (which are keyed by (seed, pose, photon, dimension)).
+const NOISE_SEED_SALT: u64 = 0x454D_5641_1288_0001;
+
+/// The sampler index of pixel (column, row): independent of the image width, so a pixel keeps
+/// its fixed pattern when the image is cropped.
+pub fn pixel_key(column: usize, row: usize) -> u64 {
+    ((row as u64) << 32) | column as u64
+}
+
+/// The noise sampler of frame (or pose) `frame` under the run's `seed`: a stream separate from
+/// the transport's `PoseSampler::new(seed, pose)`.
+pub fn frame_sampler(seed: u64, frame: u64) -> PoseSampler {
+    PoseSampler::new(mix64(seed ^ NOISE_SEED_SALT), frame)
+}
+
+/// A standard normal deviate from two uniforms in [0, 1) (Box & Muller, Ann. Math. Statist.
+/// 29, 1958).
+pub fn standard_normal(u1: f64, u2: f64) -> f64 {
+    (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// A Poisson deviate of mean `mean` (≥ 0, finite) from the uniforms in [0, 1) that `u` yields.
+///
+/// Means below [`INVERSION_MAX_MEAN`]: exact inversion by sequential search of the CDF (one
+/// uniform). Larger means: Hörmann's PTRS transformed rejection with squeeze ("The transformed
+/// rejection method for generating Poisson random variables", Insurance: Mathematics and
+/// Economics 12, 1993; valid for μ ≥ 10), two uniforms per trial, at most
+/// [`PTRS_MAX_TRIALS`] trials. Exact up to f64 rounding for means below 2⁵².
+pub fn poisson(mean: f64, mut u: impl FnMut() -> f64) -> f64 {
+    debug_assert!(mean >= 0.0 && mean.is_finite(), "Poisson mean {mean}");
+    if mean.is_nan() || mean <= 0.0 {
+        return 0.0;
+    }
+    if mean < INVERSION_MAX_MEAN {
+        poisson_inversion(mean, u())
+    } else {
+        poisson_ptrs(mean, u)
+    }
+}
+
+fn poisson_inversion(mean: f64, u: f64) -> f64 {
+    let (mut k, mut p) = (0.0, (-mean).exp());
+    let mut cdf = p;
+    // P(k > 1000) < 10⁻⁹⁰⁰ for μ < 30; the bound also ends the search when rounding leaves
+    // the summed CDF just below a u close to 1.
+    while u >= cdf && k < 1000.0 {
+        k += 1.0;
+        p *= mean / k;
+        cdf += p;
+    }
+    k
+}
+
+fn poisson_ptrs(mean: f64, mut u: impl FnMut() -> f64) -> f64 {
+    // Hörmann 1993, algorithm PTRS: constants of the transformed hat, its squeeze v_r.
+    let b = 0.931 + 2.53 * mean.sqrt();
+    let a = -0.059 + 0.02483 * b;
+    let ln_inv_alpha = (1.1239 + 1.1328 / (b - 3.4)).ln();
+    let v_r = 0.9277 - 3.6224 / (b - 2.0);
+    for _ in 0..PTRS_MAX_TRIALS {
+        let uu = u() - 0.5;
+        let v = u();
+        let us = 0.5 - uu.abs();
+        let k = ((2.0 * a / us + b) * uu + mean + 0.43).floor();
+        if us >= 0.07 && v <= v_r {
+            return k;
+        }
+        // us = 0 gives k = −∞ and is rejected here.
+        if k < 0.0 || (us < 0.013 && v > us) {
+            continue;
+        }
+        if v.ln() + ln_inv_alpha - (a / (us * us) + b).ln() <= ln_poisson_pmf(k, mean) {
+            return k;
+        }
+    }
+    mean.round()
+}
+
+/// ln P(K = k) for K ~ Poisson(μ): −μ + k·ln μ − ln k!. For k ≥ 10, Stirling's series for
+/// ln Γ(k + 1) (Abramowitz & Stegun 6.1.41, error < 10⁻¹²) in a form without cancellation at
+/// large μ: with x = k + 1 and δ = (μ − x)/x, ln P = k·(ln(1 + δ) − δ) − δ − ½·ln(2πx) − S(x).
+fn ln_poisson_pmf(k: f64, mean: f64) -> f64 {
+    if k < 10.0 {
+        let ln_factorial: f64 = (2..=k as u32).map(|j| f64::from(j).ln()).sum();
+        return k * mean.ln() - mean - ln_factorial;
+    }
+    let x = k + 1.0;
+    let delta = (mean - x) / x;
+    let (inv, inv2) = (1.0 / x, 1.0 / (x * x));
+    let series = inv * (1.0 / 12.0 - inv2 * (1.0 / 360.0 - inv2 * (1.0 / 1260.0 - inv2 / 1680.0)));
+    k * (delta.ln_1p() - delta) - delta - 0.5 * (std::f64::consts::TAU * x).ln() - series
+}
+
+/// Consecutive uniforms of pixel `key` from dimension `base` on, for one Poisson draw.
+fn draws(sampler: &PoseSampler, key: u64, base: u32) -> impl FnMut() -> f64 + '_ {
+    let mut dim = base;
+    move || {
+        debug_assert!(
+            dim < base + POISSON_DIMS,
+            "Poisson draw overran its dimensions"
+        );
+        let u = sampler.uniform(key, dim);
+        dim += 1;
+        u
+    }
+}
+
+/// The sensor's fixed pattern on a `width` × `height` grid: per-pixel gain (PRNU, mean 1) and
+/// dark offset (DSNU, e⁻, mean 0), both Gaussian.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FixedPattern {
+    /// Gain map g = max(1 + PRNU·n, 0), multiplying η.
+    pub gain: Image<f64>,
+    /// Dark offset map d = DSNU·n′ (e⁻).
+    pub offset_e: Image<f64>,
+}
+
+impl FixedPattern {
+    /// The fixed pattern of `spec` (its `prnu` and `dsnu_e`) on a `width` × `height` grid.
+    pub fn new(spec: &ImagerSpec, width: usize, height: usize) -> FixedPattern {
+        let s = PoseSampler::new(FIXED_PATTERN_SEED, FIXED_PATTERN_STREAM);
+        let map = |sigma: f64, dim: u32, mean: f64| Image {
+            width,
+            height,
+            data: (0..width * height)
+                .into_par_iter()
+                .map(|i| {
+                    if sigma == 0.0 {
+                        return mean;
+                    }
+                    let key = pixel_key(i % width, i / width);
+                    mean + sigma * standard_normal(s.uniform(key, dim), s.uniform(key, dim + 1))
+                })
+                .collect(),
+        };
+        let mut gain = map(spec.prnu, DIM_PRNU, 1.0);
+        // A negative gain is unphysical; at PRNU ≤ 0.2 it would take a 5σ pixel.
+        gain.data.iter_mut().for_each(|g| *g = g.max(0.0));
+        FixedPattern {
+            gain,
+            offset_e: map(spec.dsnu_e, DIM_DSNU, 0.0),
+        }
+    }
+}
+
+/// Exposes `irradiance` (W/m², on pixels of `pixel_area_m2` at `wavelength_m`) with the
+/// temporal noise of `sampler`. With `spec.noise` false the result is the noise-free mean
+/// model: `dn` is exactly [`ImagerSpec::expose`], `electrons` = min(η·μ_p, full well), no
+/// dark signal, fixed pattern or blooming.
+pub fn expose(
+    spec: &ImagerSpec,
+    irradiance: &Image<f64>,
+    pixel_area_m2: f64,
+    wavelength_m: f64,
+    sampler: &PoseSampler,
+) -> Exposure {
+    if !spec.noise {
+        return expose_mean(spec, irradiance, pixel_area_m2, wavelength_m);
+    }
+    let (w, h) = (irradiance.width, irradiance.height);
+    let full_well = spec.full_well_e;
+    let pattern = FixedPattern::new(spec, w, h);
+    let dark_e = spec.dark_current_e_per_s * spec.exposure_s;
+    let charge: Vec<f64> = irradiance
+        .data
+        .par_iter()
+        .enumerate()
+        .map(|(i, &e)| {
+            let key = pixel_key(i % w, i / w);
+            let photons = spec.photons(e, pixel_area_m2, wavelength_m);
+            let mean_e = (spec.quantum_efficiency * photons * pattern.gain.data[i]).max(0.0);
+            poisson(mean_e, draws(sampler, key, DIM_PHOTO))
+                + poisson(dark_e, draws(sampler, key, DIM_DARK))
+        })
+        .collect();
+    let mut electrons = Image {
+        width: w,
+        height: h,
+        data: charge,
+    };
+    let lost_e = match spec.kind {
+        SensorKind::Cmos => bloom::clip_to_full_well(&mut electrons, full_well),
+        SensorKind::Ccd => bloom::bleed_columns(&mut electrons, full_well),
+    };
+    let max_dn = spec.max_dn();
+    let dn: Vec<u16> = electrons
+        .data
+        .par_iter()
+        .enumerate()
+        .map(|(i, &q)| {
+            let key = pixel_key(i % w, i / w);
+            let read = spec.read_noise_e
+                * standard_normal(
+                    sampler.uniform(key, DIM_READ),
+                    sampler.uniform(key, DIM_READ + 1),
+                );
+            // A real ADC rounds without dither: quantisation noise σ_q² = 1/12 DN² (EMVA 1288).
+            let y =
+                spec.gain_dn_per_e * (q + read + pattern.offset_e.data[i]) + spec.dark_offset_dn;
+            y.round().clamp(0.0, f64::from(max_dn)) as u16
+        })
+        .collect();
+    let saturated = count_saturated(&electrons.data, &dn, full_well, max_dn);
+    Exposure {
+        dn: Image {
+            width: w,
+            height: h,
+            data: dn,
+        },
+        electrons,
+        saturated,
+        lost_e,
+    }
+}
+
+/// The noise-free mean model (`spec.noise == false`).
+fn expose_mean(
+    spec: &ImagerSpec,
+    irradiance: &Image<f64>,
+    pixel_area_m2: f64,
+    wavelength_m: f64,
+) -> Exposure {
+    let dn = spec.expose(irradiance, pixel_area_m2, wavelength_m);
+    let mut lost_e = 0.0;
+    let data: Vec<f64> = irradiance
+        .data
+        .iter()
+        .map(|&e| {
+            let q = spec.quantum_efficiency * spec.photons(e, pixel_area_m2, wavelength_m);
+            lost_e += (q - spec.full_well_e).max(0.0);
+            q.min(spec.full_well_e)
+        })
+        .collect();
+    let saturated = count_saturated(&data, &dn.data, spec.full_well_e, spec.max_dn());
+    Exposure {
+        electrons: Image {
+            width: irradiance.width,
+            height: irradiance.height,
+            data,
+        },
+        dn,
+        saturated,
+        lost_e,
+    }
+}
+
+fn count_saturated(electrons: &[f64], dn: &[u16], full_well: f64, max_dn: u16) -> usize {
+    electrons
+        .iter()
+        .zip(dn)
+        .filter(|&(&q, &d)| q >= full_well || d == max_dn)
+        .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sensor::preset::scancontrol_2600_100;
+
+    /// Mean and unbiased variance of `n` Poisson draws of mean `mu`, draw i keyed by i.
+    fn sample_moments(mu: f64, n: u64, stream: u64) -> (f64, f64) {
+        let s = PoseSampler::new(11, stream);
+        let (mut m, mut m2) = (0.0, 0.0);
+        for i in 0..n {
+            let k = poisson(mu, draws(&s, i, 0));
+            assert!(k >= 0.0 && k.fract() == 0.0, "{k}");
+            // Shifted sums keep the variance exact at μ = 10⁵.
+            let d = k - mu;
+            m += d;
+            m2 += d * d;
+        }
+        let nf = n as f64;
+        let mean = m / nf;
+        (mu + mean, (m2 - nf * mean * mean) / (nf - 1.0))
+    }
+
+    #[test]
+    fn poisson_mean_and_variance_pass_z_tests() {
+        // Poisson(μ): mean μ, variance μ; σ(mean) = √(μ/n), σ(s²) = √((μ4 − σ⁴)/n) with the
+        // fourth central moment μ4 = μ(1 + 3μ), so σ(s²) = √((μ + 2μ²)/n). |z| < 4 for each of
+        // the 10 tests (family-wise false alarm 6·10⁻⁴).
+        let n = 100_000;
+        for (stream, mu) in [0.5, 5.0, 50.0, 5e3, 1e5].into_iter().enumerate() {
+            let (mean, var) = sample_moments(mu, n, stream as u64);
+            let z_mean = (mean - mu) / (mu / n as f64).sqrt();
+            let z_var = (var - mu) / ((mu + 2.0 * mu * mu) / n as f64).sqrt();
+            eprintln!(
+                "Poisson μ = {mu}: mean {mean:.5} (z {z_mean:+.2}), var {var:.5} (z {z_var:+.2})"
+            );
+            assert!(
+                z_mean.abs() < 4.0 && z_var.abs() < 4.0,
+                "μ = {mu}: mean {mean} (z {z_mean:.2}), variance {var} (z {z_var:.2})"
+            );
+        }
+    }
+
+    #[test]
+    fn poisson_pmf_logarithm_matches_direct_sums() {
+        for mu in [30.0, 50.0, 1e3] {
+            for k in (0..3000).step_by(7) {
+                let k = k as f64;
+                let ln_fact: f64 = (2..=k as u32).map(|j| f64::from(j).ln()).sum();
+                let direct = -mu + k * f64::ln(mu) - ln_fact;
+                let got = ln_poisson_pmf(k, mu);
+                assert!(
+                    (got - direct).abs() < 1e-9 * direct.abs().max(1.0),
+                    "μ {mu}, k {k}: {got} vs {direct}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn ptrs_takes_the_hat_area_in_trials_per_draw() {
+        // The mean number of trials of a rejection sampler is the area under its hat; Hörmann
+        // (1993) gives it as 1/α ≈ 1.1239 + 1.1328/(b − 3.4), a fitted approximation, so the
+        // check allows 2 % (σ of the measured mean ≈ √(1 − α)/α/√n ≈ 0.004).
+        let s = PoseSampler::new(5, 0);
+        let n = 20_000u64;
+        for mu in [30.0, 1e3, 1e5] {
+            let mut used = 0u64;
+            for i in 0..n {
+                let mut dim = 0;
+                poisson(mu, || {
+                    used += 1;
+                    dim += 1;
+                    s.uniform(i, dim)
+                });
+            }
+            let trials = used as f64 / 2.0 / n as f64;
+            let b = 0.931 + 2.53 * f64::sqrt(mu);
+            let hat = 1.1239 + 1.1328 / (b - 3.4);
+            eprintln!("PTRS μ = {mu}: {trials:.4} trials per draw, hat area {hat:.4}");
+            assert!(
+                (trials / hat - 1.0).abs() < 0.02,
+                "μ {mu}: {trials} trials per draw, hat area {hat}"
+            );
+        }
+    }
+
+    #[test]
+    fn standard_normal_has_unit_variance() {
+        let s = PoseSampler::new(2, 9);
+        let n = 100_000;
+        let (mut m, mut m2) = (0.0, 0.0);
+        for i in 0..n {
+            let x = standard_normal(s.uniform(i, 0), s.uniform(i, 1));
+            m += x;
+            m2 += x * x;
+        }
+        let (mean, var) = (m / n as f64, m2 / n as f64);
+        // σ(mean) = 1/√n = 0.0032; σ(var) = √(2/n) = 0.0045.
+        assert!(
+            mean.abs() < 0.013 && (var - 1.0).abs() < 0.018,
+            "{mean} {var}"
+        );
+    }
+
+    #[test]
+    fn noise_off_is_the_mean_model_and_noise_on_is_keyed() {
+        let mut spec = scancontrol_2600_100().imager;
+        let mut e = Image::<f64>::new(16, 8);
+        for (i, v) in e.data.iter_mut().enumerate() {
+            *v = 0.3 * i as f64;
+        }
+        let (area, lambda) = (9.4e-6 * 9.4e-6, 658e-9);
+        let s = frame_sampler(1, 0);
+        spec.noise = false;
+        let off = expose(&spec, &e, area, lambda, &s);
+        assert_eq!(off.dn, spec.expose(&e, area, lambda));
+        spec.noise = true;
+        let a = expose(&spec, &e, area, lambda, &s);
+        assert_eq!(a, expose(&spec, &e, area, lambda, &frame_sampler(1, 0)));
+        assert_ne!(
+            a.dn,
+            expose(&spec, &e, area, lambda, &frame_sampler(1, 1)).dn
+        );
+        assert_ne!(a.dn, off.dn);
+    }
+}
