@@ -158,6 +158,39 @@ fn bad_input_exits_with_code_2_and_a_clear_message() {
             ],
             "--max-depth",
         ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--peak-select",
+                "brightest",
+            ],
+            "largest_area",
+        ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--threshold",
+                "5000",
+            ],
+            "--threshold",
+        ),
+        (
+            &[
+                "scan",
+                "scenes/flat_opaque.toml",
+                "--out",
+                s(&out),
+                "--sensor-kind",
+                "cmosx",
+            ],
+            "--sensor-kind",
+        ),
     ];
     for (args, needle) in cases {
         let o = glassscan(args);

@@ -32,44 +32,51 @@ pub struct PoseResult {
 /// noise's (`frame_sampler`) streams.
 const SPECKLE_STREAM: u64 = 0x5bec_1e00_0000_0000;
 
-/// Replaces every class but glints by its coherent image (speckle and diffraction). Glints come
-/// from polished faces (no speckle) and their diffraction spot (1.22·λ·N ≈ 2 µm) is far below
-/// a pixel, so they stay as traced.
+/// Replaces the light of every class but glints by its coherent image (speckle and
+/// diffraction). All rough-surface light interferes together, so one coherent image is made of
+/// their sum and shared among the classes in proportion to their incoherent irradiance at each
+/// pixel. Glints come from polished faces (no speckle) and their diffraction spot
+/// (1.22·λ·N ≈ 2 µm) is far below a pixel, so they stay as traced.
 fn apply_speckle(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPose, seed: u64) {
     let Some(settings) = head.config.speckle else {
         return;
     };
     let cam = &head.camera;
-    let range = &head.config.range;
-    let f_number = cam.working_f_number(0.0, range.z_mid_m());
-    let mut total = irradiance.by_class[PathClass::Glint.index()].clone();
-    for class in PathClass::ALL {
-        if class == PathClass::Glint {
+    let glint = PathClass::Glint.index();
+    let mut rough = irradiance.total.clone();
+    for (r, g) in rough.data.iter_mut().zip(&irradiance.by_class[glint].data) {
+        *r = (*r - g).max(0.0);
+    }
+    if rough.data.iter().all(|&v| v == 0.0) {
+        return;
+    }
+    let speckled = speckle_image(
+        &rough,
+        head.config.laser.wavelength_m,
+        cam.working_f_number(0.0, head.config.range.z_mid_m()),
+        cam.spec().pixel_pitch_m,
+        &settings,
+        &PoseSampler::new(seed, SPECKLE_STREAM ^ pose.index as u64),
+    );
+    for (k, layer) in irradiance.by_class.iter_mut().enumerate() {
+        if k == glint {
             continue;
         }
-        let layer = &mut irradiance.by_class[class.index()];
-        if layer.data.iter().all(|&v| v == 0.0) {
-            continue;
-        }
-        // One coherent image per class: light of different paths adds in intensity here
-        // (a simplification: it would interfere where two classes overlap).
-        let class_sampler = PoseSampler::new(
-            seed ^ ((class.index() as u64) << 56),
-            SPECKLE_STREAM ^ pose.index as u64,
-        );
-        *layer = speckle_image(
-            layer,
-            head.config.laser.wavelength_m,
-            f_number,
-            cam.spec().pixel_pitch_m,
-            &settings,
-            &class_sampler,
-        );
-        for (t, v) in total.data.iter_mut().zip(&layer.data) {
-            *t += v;
+        for ((v, s), r) in layer.data.iter_mut().zip(&speckled.data).zip(&rough.data) {
+            if *r > 0.0 {
+                *v *= s / r;
+            }
         }
     }
-    irradiance.total = total;
+    for ((t, s), g) in irradiance
+        .total
+        .data
+        .iter_mut()
+        .zip(&speckled.data)
+        .zip(&irradiance.by_class[glint].data)
+    {
+        *t = s + g;
+    }
 }
 
 /// Simulates the sensor `head` at `pose`.

@@ -5,8 +5,11 @@
 //!   thickness, power, wavelength).
 //! - `camera`: thin lens with a finite aperture and a Scheimpflug-tilted image plane on which
 //!   the whole laser plane is in focus; the exact map pixel ↔ (x, z) in the laser plane.
-//! - `imager`: irradiance → digital numbers (noise-free linear model for now).
-//! - `profile`: per-column peak detection and triangulation to (x, z).
+//! - `imager`, `emva`, `bloom`: irradiance → photons → electrons → digital numbers, with the
+//!   EMVA 1288 noise model and full-well overflow (CMOS clip, CCD bleed).
+//! - `speckle`: coherent imaging of rough returns (speckle, diffraction).
+//! - `path_class`: what produced the light on the sensor.
+//! - `profile`: the firmware: per-column peaks, filters, selection modes, triangulation.
 //! - `preset`: named sensor presets (`scancontrol-2600-100`).
 //!
 //! Units: SI inside (m, s, W, rad). Images are row-major, row 0 at the top (near range).

@@ -16,7 +16,8 @@
 //! Σ|h|² = 1 so that the mean intensity is I blurred by the incoherent PSF |h|². A speckle
 //! contrast C < 1 (wavelength, angle or polarisation diversity) is modelled as the average of
 //! M = round(1/C²) independent patterns (contrast 1/√M). The image is processed in tiles with
-//! a halo of the kernel's radius; tiles without rough-surface light are skipped.
+//! a halo of the kernel's radius; tiles whose light is below 1e-4 of the image's brightest pixel
+//! keep their incoherent irradiance (faint stray light, < 0.1 DN at a line near full scale).
 
 use rayon::prelude::*;
 
@@ -35,6 +36,8 @@ pub struct SpeckleSettings {
 
 /// Pixels per tile side.
 const TILE: usize = 16;
+/// Tiles fainter than this fraction of the brightest pixel are left incoherent.
+const FAINT_FRACTION: f64 = 1e-4;
 /// The Airy amplitude is kept out to this many dark rings.
 const AIRY_RINGS: f64 = 4.0;
 
@@ -123,6 +126,10 @@ pub fn speckle_image(
     let tiles: Vec<(usize, usize)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx, ty)))
         .collect();
+    // Tiles whose brightest pixel is below FAINT_FRACTION of the image's keep their incoherent
+    // irradiance: stray light that faint (< 0.1 DN for a line near full scale) gains nothing
+    // from a coherent image and would cost most of the time.
+    let faint = FAINT_FRACTION * rough.data.iter().copied().fold(0.0, f64::max);
     // Each tile yields its own pixels; tiles are reassembled in order (deterministic).
     let results: Vec<Option<Vec<f64>>> = tiles
         .par_iter()
@@ -132,8 +139,11 @@ pub fn speckle_image(
             // Source region: the tile plus a halo.
             let (sx0, sy0) = (x0.saturating_sub(halo), y0.saturating_sub(halo));
             let (sx1, sy1) = ((x1 + halo).min(w), (y1 + halo).min(h));
-            let any = (sy0..sy1).any(|y| (sx0..sx1).any(|x| rough.get(x, y) > 0.0));
-            if !any {
+            let tile_max = (sy0..sy1)
+                .flat_map(|y| (sx0..sx1).map(move |x| (x, y)))
+                .map(|(x, y)| rough.get(x, y))
+                .fold(0.0, f64::max);
+            if tile_max <= faint {
                 return None;
             }
             let (gw, gh) = ((sx1 - sx0) * q, (sy1 - sy0) * q);
@@ -158,16 +168,29 @@ pub fn speckle_image(
                         im[gy * gw + gx] = a * phase.sin();
                     }
                 }
+                // Sub-grid rows that have some field within the kernel's reach: the line
+                // crosses a tile in a few pixels, so most output rows are dark.
+                let lit_rows: Vec<bool> = (0..gh)
+                    .map(|gy| {
+                        re[gy * gw..(gy + 1) * gw].iter().any(|&v| v != 0.0)
+                            || im[gy * gw..(gy + 1) * gw].iter().any(|&v| v != 0.0)
+                    })
+                    .collect();
                 // Coherent image on the tile's own sub-grid.
                 let (ox, oy) = ((x0 - sx0) * q, (y0 - sy0) * q);
                 let tw = (x1 - x0) * q;
                 for ty_ in 0..(y1 - y0) * q {
+                    let cy = oy + ty_;
+                    let (lo, hi) = (cy.saturating_sub(half), (cy + half).min(gh - 1));
+                    if !lit_rows[lo..=hi].iter().any(|&l| l) {
+                        continue;
+                    }
                     for tx_ in 0..tw {
-                        let (cx, cy) = (ox + tx_, oy + ty_);
+                        let cx = ox + tx_;
                         let (mut fr, mut fi) = (0.0, 0.0);
                         for ky in 0..kn {
                             let gy = cy as isize + ky as isize - half as isize;
-                            if gy < 0 || gy >= gh as isize {
+                            if gy < 0 || gy >= gh as isize || !lit_rows[gy as usize] {
                                 continue;
                             }
                             let row = gy as usize * gw;
@@ -200,7 +223,7 @@ pub fn speckle_image(
             Some(pixels)
         })
         .collect();
-    let mut out = Image::<f64>::new(w, h);
+    let mut out = rough.clone();
     for ((tx, ty), pixels) in tiles.iter().zip(results) {
         let Some(pixels) = pixels else { continue };
         let (x0, y0) = (tx * TILE, ty * TILE);
