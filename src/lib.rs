@@ -10,6 +10,7 @@
 pub mod cli;
 pub mod dataset;
 pub mod geometry;
+pub mod localise;
 pub mod optics;
 pub mod sampler;
 pub mod scan;

@@ -226,3 +226,32 @@ fn a_bad_scene_file_names_file_line_and_field() {
         "{msg}"
     );
 }
+
+#[test]
+fn locate_runs_the_pipeline_and_prints_the_paper_s_metrics_as_json() {
+    let o = glassscan(&[
+        "locate",
+        "scenes/flat_opaque.toml",
+        "--poses",
+        "4",
+        "--photons",
+        "20000",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("--json prints JSON");
+    for key in [
+        "bip_error_mm",
+        "pose_error",
+        "task_error_mm",
+        "contour_error_mm",
+        "converged",
+        "timings_s",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}: {v}");
+    }
+    assert_eq!(v["bips"], 4);
+    let o = glassscan(&["locate", "scenes/flat_opaque.toml", "--perturb", "1,2,3"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--perturb"), "{}", stderr(&o));
+}

@@ -3,6 +3,7 @@
 //!
 //! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
 
+mod locate;
 mod manifest;
 mod scan;
 
@@ -25,6 +26,9 @@ pub enum Command {
     /// Simulate the sensor at scan poses along the target's border and write images,
     /// profiles and a manifest.
     Scan(scan::ScanArgs),
+    /// Scan the target's border, pick a Border Identifier Point per profile, register them to
+    /// the model by ICP and report the errors against ground truth (the paper's pipeline).
+    Locate(locate::LocateArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -66,6 +70,7 @@ pub fn run() -> ExitCode {
     };
     let outcome = match cli.command {
         Command::Scan(args) => scan::run(args),
+        Command::Locate(args) => locate::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
