@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde_json::json;
 
-use super::CliError;
+use super::{flags, CliError};
 use crate::geometry::pose::{pose_from_mm_deg, pose_to_mm_deg};
 use crate::scan::locate::locate;
 use crate::scene;
@@ -56,7 +56,7 @@ fn parse_perturb(s: &str) -> Result<[f64; 6], CliError> {
 /// Runs `glassscan locate`.
 pub fn run(args: LocateArgs) -> Result<(), CliError> {
     let mut world = scene::load(&args.scene).map_err(CliError::input)?;
-    let bad = |flag: &str, msg: String| CliError::input(anyhow::anyhow!("--{flag} {msg}"));
+    let bad = flags::bad_flag;
     let mut scan = world.scan;
     if let Some(n) = args.poses {
         if n < 3 {
@@ -68,20 +68,9 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         scan.poses = n;
     }
     if let Some(a) = args.scan_angle_deg {
-        if !(a.is_finite() && a > 0.0 && a <= 90.0) {
-            return Err(bad(
-                "scan-angle-deg",
-                format!("must be in (0, 90], got {a}"),
-            ));
-        }
-        scan.scan_angle_rad = a.to_radians();
+        scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
-    if args.photons < 1000 {
-        return Err(bad(
-            "photons",
-            format!("must be ≥ 1000, got {}", args.photons),
-        ));
-    }
+    flags::photons(args.photons)?;
     let Some(target) = world.target.clone() else {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `locate` needs a panel whose border it scans",

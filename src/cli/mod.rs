@@ -3,6 +3,7 @@
 //!
 //! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
 
+mod flags;
 mod locate;
 mod manifest;
 mod scan;

@@ -7,7 +7,7 @@ use anyhow::Context;
 use clap::Args;
 
 use super::manifest::{FileEntry, Manifest, PoseEntry, Summary};
-use super::CliError;
+use super::{flags, CliError};
 use crate::dataset::{exr, json, output_dir, png16, profile_csv};
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::simulate_pose;
@@ -80,16 +80,10 @@ struct RunConfig {
 
 fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
     let mut world = scene::load(&args.scene).map_err(CliError::input)?;
-    let bad = |flag: &str, msg: String| CliError::input(anyhow::anyhow!("--{flag} {msg}"));
+    let bad = flags::bad_flag;
     let mut scan = world.scan;
     if let Some(a) = args.scan_angle_deg {
-        if !(a.is_finite() && a > 0.0 && a <= 90.0) {
-            return Err(bad(
-                "scan-angle-deg",
-                format!("must be in (0, 90], got {a}"),
-            ));
-        }
-        scan.scan_angle_rad = a.to_radians();
+        scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
     if let Some(n) = args.poses {
         if n == 0 {
@@ -138,12 +132,7 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
             }
         };
     }
-    if args.photons < 1000 {
-        return Err(bad(
-            "photons",
-            format!("must be ≥ 1000, got {}", args.photons),
-        ));
-    }
+    flags::photons(args.photons)?;
     if args.max_depth == 0 {
         return Err(bad("max-depth", "must be ≥ 1, got 0".into()));
     }

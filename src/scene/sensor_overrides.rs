@@ -9,7 +9,7 @@ use serde_spanned::Spanned;
 
 use super::error::{SceneError, SceneSource};
 use super::file::{
-    CameraDef, ImagerDef, LineProfileDef, PolarizationDef, SensorDef, SensorKindDef,
+    CameraDef, ImagerDef, Int, LineProfileDef, PolarizationDef, SensorDef, SensorKindDef,
 };
 use crate::sensor::camera::Camera;
 use crate::sensor::imager::SensorKind;
@@ -202,29 +202,11 @@ pub(crate) fn resolve_sensor(
             .map_err(|e| src.invalid(&v.span(), "sensor.peak_select", e.to_string()))?;
     }
     if let Some(v) = &def.peak_width_px {
-        let [lo, hi] = [&v.get_ref()[0], &v.get_ref()[1]]
-            .map(|n| src.integer(n, "sensor.peak_width_px", 0, 1023));
-        let (lo, hi) = (lo?, hi?);
-        if lo > hi {
-            return Err(src.invalid(
-                &v.span(),
-                "sensor.peak_width_px",
-                format!("must be [min, max] with min ≤ max, got [{lo}, {hi}]"),
-            ));
-        }
+        let (lo, hi) = integer_range(src, v, "sensor.peak_width_px", 1023)?;
         s.firmware.width_range_px = (lo as u32, hi as u32);
     }
     if let Some(v) = &def.peak_intensity_dn {
-        let [lo, hi] = [&v.get_ref()[0], &v.get_ref()[1]]
-            .map(|n| src.integer(n, "sensor.peak_intensity_dn", 0, max_dn));
-        let (lo, hi) = (lo?, hi?);
-        if lo > hi {
-            return Err(src.invalid(
-                &v.span(),
-                "sensor.peak_intensity_dn",
-                format!("must be [min, max] with min ≤ max, got [{lo}, {hi}]"),
-            ));
-        }
+        let (lo, hi) = integer_range(src, v, "sensor.peak_intensity_dn", max_dn)?;
         s.firmware.intensity_range_dn = (lo as u16, hi as u16);
     }
     if let Some(v) = &def.speckle {
@@ -380,6 +362,25 @@ fn blame(
             candidates.first().map_or(String::new(), |c| c.2.clone()),
         ),
     }
+}
+
+/// A `[min, max]` pair of integers in [0, `max`] with min ≤ max.
+fn integer_range(
+    src: &SceneSource,
+    v: &Spanned<[Int; 2]>,
+    field: &str,
+    max: i64,
+) -> Result<(i64, i64), SceneError> {
+    let [lo, hi] = [&v.get_ref()[0], &v.get_ref()[1]].map(|n| src.integer(n, field, 0, max));
+    let (lo, hi) = (lo?, hi?);
+    if lo > hi {
+        return Err(src.invalid(
+            &v.span(),
+            field,
+            format!("must be [min, max] with min ≤ max, got [{lo}, {hi}]"),
+        ));
+    }
+    Ok((lo, hi))
 }
 
 /// The fixed threshold of `t`, if it is above `max_dn`.
