@@ -36,6 +36,14 @@ pub fn invert_concentric_disk(p: [f64; 2]) -> [f64; 2] {
     [(a + 1.0) / 2.0, (b + 1.0) / 2.0]
 }
 
+/// Two independent standard normal deviates from two uniforms in [0, 1) (Box & Muller, Ann.
+/// Math. Statist. 29, 1958): r = √(−2 ln(1 − u₁)), (r cos 2πu₂, r sin 2πu₂).
+pub fn box_muller(u1: f64, u2: f64) -> (f64, f64) {
+    let r = (-2.0 * (1.0 - u1).ln()).sqrt();
+    let a = 2.0 * PI * u2;
+    (r * a.cos(), r * a.sin())
+}
+
 /// Cosine-weighted direction on the hemisphere around +z (Malley's method), in local
 /// coordinates; density cos θ / π.
 pub fn cosine_hemisphere(u: [f64; 2]) -> [f64; 3] {

@@ -38,6 +38,7 @@ use rayon::prelude::*;
 use super::bloom;
 use super::image::Image;
 use super::imager::{ImagerSpec, SensorKind};
+use crate::optics::warp::box_muller;
 use crate::sampler::{mix64, PoseSampler};
 
 /// What one exposure produced.
@@ -100,7 +101,7 @@ pub fn frame_sampler(seed: u64, frame: u64) -> PoseSampler {
 /// A standard normal deviate from two uniforms in [0, 1) (Box & Muller, Ann. Math. Statist.
 /// 29, 1958).
 pub fn standard_normal(u1: f64, u2: f64) -> f64 {
-    (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    box_muller(u1, u2).0
 }
 
 /// A Poisson deviate of mean `mean` (≥ 0, finite) from the uniforms in [0, 1) that `u` yields.

@@ -57,6 +57,8 @@ pub struct LaserSheet {
 
 use nalgebra::{Point3, Vector3};
 
+use crate::optics::warp::box_muller;
+
 /// A laser ray in the sensor frame, with the uniforms it came from resolved.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaserRay {
@@ -121,13 +123,6 @@ impl LaserSheet {
             fan_angle,
         }
     }
-}
-
-/// Two independent standard normals from two uniforms (Box–Muller).
-fn box_muller(u1: f64, u2: f64) -> (f64, f64) {
-    let r = (-2.0 * (1.0 - u1).ln()).sqrt();
-    let a = 2.0 * std::f64::consts::PI * u2;
-    (r * a.cos(), r * a.sin())
 }
 
 /// Standard normal CDF Φ(x) = erfc(−x/√2)/2.
