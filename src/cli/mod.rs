@@ -6,6 +6,7 @@
 mod flags;
 mod locate;
 mod manifest;
+pub mod progress;
 mod scan;
 
 use std::process::ExitCode;

@@ -183,6 +183,19 @@ pub enum DatasetError {
         /// The underlying error, with line and column.
         source: serde_json::Error,
     },
+
+    /// A PLY file (or a cloud to write) that is not laid out as `ply` reads and writes it.
+    #[error("{}:{line}: expected {expected}, got \"{found}\"", path.display())]
+    PlyLayout {
+        /// The file concerned.
+        path: PathBuf,
+        /// 1-based line number, 0 when the problem is not on one line.
+        line: usize,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
+    },
 }
 
 impl DatasetError {

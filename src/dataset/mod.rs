@@ -7,6 +7,7 @@
 //! - `profile_csv`: line profiles (column, sub-pixel row, x and z in mm, intensity in DN,
 //!   peak width in px, validity).
 //! - `json`: manifests and configurations.
+//! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
 //! Invariants:
@@ -22,6 +23,7 @@ pub mod error;
 pub mod exr;
 pub mod json;
 pub mod output_dir;
+pub mod ply;
 pub mod png16;
 pub mod profile_csv;
 

@@ -6,6 +6,8 @@
 //! tangent plane, looking from outside and above: z_S = −cos α·o − sin α·n. The sensor sits at
 //! `standoff` along −z_S from p, so p is at range `standoff` on the laser axis.
 
+pub mod bip;
+pub mod errors;
 pub mod locate;
 pub mod poses;
 pub mod simulate;
