@@ -255,3 +255,113 @@ fn locate_runs_the_pipeline_and_prints_the_paper_s_metrics_as_json() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--perturb"), "{}", stderr(&o));
 }
+
+#[test]
+fn locate_out_files_feed_register_which_gives_the_same_pose() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = out_dir(&tmp, "loc");
+    let o = glassscan(&[
+        "locate",
+        "scenes/flat_opaque.toml",
+        "--poses",
+        "5",
+        "--photons",
+        "20000",
+        "--errors",
+        "default",
+        "--out",
+        s(&out),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["errors"], "default");
+    assert_eq!(v["error_sources_on"].as_array().unwrap().len(), 3);
+    for f in [
+        "bips.csv",
+        "bips_paper_rule.csv",
+        "poses.json",
+        "summary.json",
+        "registration_before.ply",
+        "registration_after.ply",
+        "profiles/pose_004_profile.csv",
+    ] {
+        assert!(out.join(f).is_file(), "missing {f}");
+    }
+    let cloud = glassscan::dataset::ply::read_ply(&out.join("registration_after.ply")).unwrap();
+    assert_eq!(cloud.points.len(), cloud.colors.len());
+    // The same BIPs from the same nominal pose: `register` reproduces locate's estimate.
+    let r = glassscan(&[
+        "register",
+        "scenes/flat_opaque.toml",
+        s(&out.join("bips.csv")),
+        "--json",
+    ]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let reg: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert_eq!(reg["points"], v["bips"]);
+    for (a, b) in [
+        (
+            &reg["estimate"]["translation_mm"],
+            &v["estimate"]["translation_mm"],
+        ),
+        (
+            &reg["estimate"]["rotation_deg"],
+            &v["estimate"]["rotation_deg"],
+        ),
+    ] {
+        let (a, b) = (a.as_array().unwrap(), b.as_array().unwrap());
+        for k in 0..3 {
+            assert!((a[k].as_f64().unwrap() - b[k].as_f64().unwrap()).abs() < 1e-9);
+        }
+    }
+    // A non-empty --out is refused without --force, and nothing is lost.
+    let before = std::fs::read(out.join("bips.csv")).unwrap();
+    let o = glassscan(&["locate", "scenes/flat_opaque.toml", "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(std::fs::read(out.join("bips.csv")).unwrap(), before);
+}
+
+#[test]
+fn locate_and_register_refuse_bad_input_with_exit_2() {
+    for (args, needle) in [
+        (
+            vec!["locate", "scenes/flat_opaque.toml", "--errors", "some"],
+            "--errors",
+        ),
+        (
+            vec!["locate", "scenes/flat_opaque.toml", "--bip", "lowest"],
+            "--bip",
+        ),
+        (
+            vec!["locate", "scenes/flat_opaque.toml", "--exposure-ms", "0"],
+            "--exposure-ms",
+        ),
+        (
+            vec!["locate", "scenes/flat_opaque.toml", "--poses", "2"],
+            "--poses",
+        ),
+    ] {
+        let o = glassscan(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = tmp.path().join("two.csv");
+    std::fs::write(&csv, "x_mm,y_mm,z_mm\n1,2,3\n4,5,6\n").unwrap();
+    let o = glassscan(&["register", "scenes/flat_opaque.toml", s(&csv)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("two.csv") && stderr(&o).contains("at least 3"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::write(&csv, "x_mm,y_mm,z_mm\n1,2,3\n4,x,6\n").unwrap();
+    let o = glassscan(&["register", "scenes/flat_opaque.toml", s(&csv)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("two.csv:3") && stderr(&o).contains("y_mm"),
+        "{}",
+        stderr(&o)
+    );
+}

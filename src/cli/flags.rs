@@ -27,3 +27,12 @@ pub fn photons(n: u64) -> Result<u64, CliError> {
         Err(bad_flag("photons", format!("must be ≥ 1000, got {n}")))
     }
 }
+
+/// `--exposure-ms`: positive and finite; returns seconds.
+pub fn exposure_s(ms: f64) -> Result<f64, CliError> {
+    if ms.is_finite() && ms > 0.0 {
+        Ok(ms * 1e-3)
+    } else {
+        Err(bad_flag("exposure-ms", format!("must be > 0, got {ms}")))
+    }
+}

@@ -4,12 +4,17 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use serde_json::json;
+use serde_json::{json, Value};
 
-use super::{flags, CliError};
+use super::{flags, locate_out, progress, CliError};
 use crate::geometry::pose::{pose_from_mm_deg, pose_to_mm_deg};
-use crate::scan::locate::locate;
-use crate::scene;
+use crate::localise::metrics::Stats;
+use crate::scan::bip::BipRule;
+use crate::scan::errors::ErrorModel;
+use crate::scan::locate::{locate, LocateReport, LocateSettings};
+use crate::scan::ScanConfig;
+use crate::scene::world::{World, OPAQUE_COPY_ALBEDO};
+use crate::scene::{self};
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
 
@@ -28,39 +33,81 @@ pub struct LocateArgs {
     /// (the coarse-localisation error). Default: the scene's true and nominal poses.
     #[arg(long, value_name = "DX,DY,DZ,RX,RY,RZ", allow_hyphen_values = true)]
     pub perturb: Option<String>,
-    /// Master seed.
+    /// Exposure time in milliseconds (> 0); overrides [sensor].
+    #[arg(long, value_name = "MS")]
+    pub exposure_ms: Option<f64>,
+    /// Master seed (light transport, sensor noise, error draws).
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Laser photons per pose (≥ 1000).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
+    /// Robot repeatability, hand-eye and sensor linearity errors: `off` (the sensor alone) or
+    /// `default` (PARAMETERS.md §6).
+    #[arg(long, value_name = "off|default", default_value = "off")]
+    pub errors: String,
+    /// BIP rule whose points are registered: `edge-line` (top of the steep run of edge
+    /// returns) or `highest` (the paper's: highest point above the ground). Both are reported.
+    #[arg(long, value_name = "RULE", default_value = "edge-line")]
+    pub bip: String,
+    /// Also run the opaque copy of the target (same shape, matte) for the paper's Table 3.
+    #[arg(long)]
+    pub opaque_copy: bool,
+    /// Write profiles, BIPs (CSV), poses (JSON), PLY clouds and the summary into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write into a non-empty --out directory (files are replaced one by one, atomically).
+    #[arg(long)]
+    pub force: bool,
     /// Print a machine-readable summary on stdout.
     #[arg(long)]
     pub json: bool,
 }
 
 fn parse_perturb(s: &str) -> Result<[f64; 6], CliError> {
+    let bad = |what: String| {
+        flags::bad_flag(
+            "perturb",
+            format!("expected six finite numbers dx_mm,dy_mm,dz_mm,rx_deg,ry_deg,rz_deg, {what}"),
+        )
+    };
     let v: Vec<f64> = s
         .split(',')
         .map(|x| x.trim().parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|e| CliError::input(anyhow::anyhow!("--perturb: {e}: expected six numbers dx_mm,dy_mm,dz_mm,rx_deg,ry_deg,rz_deg, got {s:?}")))?;
+        .map_err(|e| bad(format!("got {s:?} ({e})")))?;
     match <[f64; 6]>::try_from(v) {
         Ok(a) if a.iter().all(|x| x.is_finite()) => Ok(a),
-        _ => Err(CliError::input(anyhow::anyhow!(
-            "--perturb: expected six finite numbers dx_mm,dy_mm,dz_mm,rx_deg,ry_deg,rz_deg, got {s:?}"
-        ))),
+        _ => Err(bad(format!("got {s:?}"))),
     }
 }
 
-/// Runs `glassscan locate`.
-pub fn run(args: LocateArgs) -> Result<(), CliError> {
+/// `--errors`.
+pub(super) fn parse_errors(s: &str) -> Result<ErrorModel, CliError> {
+    match s {
+        "off" => Ok(ErrorModel::OFF),
+        "default" => Ok(ErrorModel::DEFAULT),
+        _ => Err(flags::bad_flag(
+            "errors",
+            format!("expected off or default, got {s:?}"),
+        )),
+    }
+}
+
+/// The validated inputs of a run.
+struct Resolved {
+    world: World,
+    scan: ScanConfig,
+    settings: LocateSettings,
+    trace: TraceSettings,
+}
+
+fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
     let mut world = scene::load(&args.scene).map_err(CliError::input)?;
-    let bad = flags::bad_flag;
     let mut scan = world.scan;
     if let Some(n) = args.poses {
         if n < 3 {
-            return Err(bad(
+            return Err(flags::bad_flag(
                 "poses",
                 format!("must be ≥ 3 (ICP needs three points), got {n}"),
             ));
@@ -71,6 +118,14 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
     flags::photons(args.photons)?;
+    if let Some(ms) = args.exposure_ms {
+        world.sensor.imager.exposure_s = flags::exposure_s(ms)?;
+    }
+    let errors = parse_errors(&args.errors)?;
+    let rule: BipRule = args
+        .bip
+        .parse()
+        .map_err(|e: String| flags::bad_flag("bip", e))?;
     let Some(target) = world.target.clone() else {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `locate` needs a panel whose border it scans",
@@ -82,98 +137,231 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         world.objects[target.object].pose =
             target.nominal_pose * pose_from_mm_deg([dx, dy, dz], [rx, ry, rz]);
     }
-    let true_pose = world.objects[target.object].pose;
+    if let Some(dir) = &args.out {
+        crate::dataset::output_dir::prepare_output_dir(dir, args.force).map_err(CliError::input)?;
+    }
+    Ok(Resolved {
+        world,
+        scan,
+        settings: LocateSettings { rule, errors },
+        trace: TraceSettings {
+            photons: args.photons,
+            max_depth: 64,
+            seed: args.seed,
+        },
+    })
+}
+
+/// Runs the pipeline on `world` (whose target exists).
+fn run_on(world: &World, r: &Resolved, quiet: bool, what: &str) -> Result<LocateReport, CliError> {
+    let target = world.target.as_ref().expect("checked in resolve");
     let head = SensorHead::new(&world.sensor).map_err(CliError::input)?;
-    let trace_scene = TraceScene::new(&world).map_err(CliError::input)?;
-    let settings = TraceSettings {
-        photons: args.photons,
-        max_depth: 64,
-        seed: args.seed,
-    };
+    let trace_scene = TraceScene::new(world).map_err(CliError::input)?;
+    let bar = progress::bar(r.scan.poses as u64, what, quiet);
     let report = locate(
         &trace_scene,
         &head,
         &target.border,
-        &true_pose,
+        &world.objects[target.object].pose,
         &target.nominal_pose,
         &world.mount,
-        &scan,
-        &settings,
+        &r.scan,
+        &r.trace,
+        &r.settings,
+        &|| bar.inc(1),
     );
-    let stats = |s: &crate::localise::metrics::Stats| json!({"mean": s.mean, "std": s.std, "max": s.max, "n": s.n});
-    let (converged, degenerate, iterations, estimate) = match &report.registration {
+    bar.finish_and_clear();
+    Ok(report)
+}
+
+fn stats_json(s: &Stats) -> Value {
+    json!({"mean": s.mean, "std": s.std, "max": s.max, "n": s.n})
+}
+
+/// The `--json` summary of one run (and the `summary.json` of `--out`).
+pub(super) fn summary_json(report: &LocateReport) -> Value {
+    let (converged, degenerate, iterations, estimate, weak) = match &report.registration {
         Ok(r) => (
             r.converged,
             r.degenerate,
             r.iterations,
             Some(pose_to_mm_deg(&r.pose)),
+            r.weak_directions.len(),
         ),
-        Err(_) => (false, false, 0, None),
+        Err(_) => (false, false, 0, None, 0),
     };
-    let summary = json!({
-        "scene": args.scene.display().to_string(),
-        "poses": scan.poses,
-        "scan_angle_deg": scan.scan_angle_rad.to_degrees(),
-        "seed": args.seed,
-        "errors": "off",
+    let errors = report.settings.errors;
+    json!({
+        "bip_rule": report.settings.rule.name(),
+        "errors": if errors.is_on() { "default" } else { "off" },
+        "error_sources_on": errors.sources_on(),
+        "error_model": errors,
         "bips": report.poses.iter().filter(|p| p.bip.is_some()).count(),
-        "bip_error_mm": stats(&report.bip_error_mm),
+        "bip_error_mm": stats_json(&report.bip_error_mm),
+        "paper_rule_bip_error_mm": stats_json(&report.paper_bip_error_mm),
         "pose_error": report.pose_error.map(|(t, r)| json!({"translation_mm": t, "rotation_deg": r})),
-        "task_error_mm": report.task_error_mm.as_ref().map(stats),
+        "task_error_mm": report.task_error_mm.as_ref().map(stats_json),
         "contour_error_mm": report.contour_error_mm.as_ref().map(|s| json!({"mean": s.mean, "max": s.max})),
         "converged": converged,
         "degenerate": degenerate,
+        "weak_directions": weak,
         "iterations": iterations,
         "registration_error": report.registration.as_ref().err().map(|e| e.to_string()),
         "estimate": estimate.map(|(t, r)| json!({"translation_mm": t, "rotation_deg": r})),
         "timings_s": {"scanning": report.timings_s.0, "pose_estimation": report.timings_s.1},
+    })
+}
+
+/// Runs `glassscan locate`.
+pub fn run(args: LocateArgs) -> Result<(), CliError> {
+    let r = resolve(&args)?;
+    let glass = run_on(&r.world, &r, args.json, "poses")?;
+    let opaque = if args.opaque_copy {
+        let world = r
+            .world
+            .with_opaque_target(OPAQUE_COPY_ALBEDO)
+            .expect("checked in resolve");
+        Some(run_on(&world, &r, args.json, "poses (opaque copy)")?)
+    } else {
+        None
+    };
+    let mut summary = summary_json(&glass);
+    let extra = json!({
+        "scene": args.scene.display().to_string(),
+        "poses": r.scan.poses,
+        "scan_angle_deg": r.scan.scan_angle_rad.to_degrees(),
+        "seed": args.seed,
+        "photons": args.photons,
+        "opaque_copy": opaque.as_ref().map(summary_json),
     });
+    summary
+        .as_object_mut()
+        .expect("an object")
+        .extend(extra.as_object().expect("an object").clone());
+    if let Some(dir) = &args.out {
+        locate_out::write_run(dir, &r.world, &glass, &summary).map_err(CliError::internal)?;
+        if let Some(o) = &opaque {
+            let sub = dir.join("opaque_copy");
+            crate::dataset::output_dir::prepare_output_dir(&sub, true)
+                .map_err(CliError::internal)?;
+            let world = r
+                .world
+                .with_opaque_target(OPAQUE_COPY_ALBEDO)
+                .expect("a target");
+            locate_out::write_run(&sub, &world, o, &summary_json(o)).map_err(CliError::internal)?;
+        }
+    }
     if args.json {
         println!(
             "{}",
             serde_json::to_string_pretty(&summary).map_err(CliError::internal)?
         );
     } else {
-        for (k, p) in report.poses.iter().enumerate() {
-            if let (Some((bip, i)), Some(pe)) = (p.bip, p.edge_point) {
-                let label = p
-                    .result
-                    .profile
-                    .points
-                    .iter()
-                    .filter(|q| q.valid)
-                    .nth(i)
-                    .and_then(|q| q.label);
-                let d = (bip - pe) * 1e3;
+        print_tables(&glass, opaque.as_ref());
+    }
+    Ok(())
+}
+
+/// Per-pose lines and the paper's Tables 2–4, on stderr.
+fn print_tables(glass: &LocateReport, opaque: Option<&LocateReport>) {
+    let errors = glass.settings.errors.sources_on();
+    eprintln!(
+        "BIP rule {}; error sources: {}",
+        glass.settings.rule.name(),
+        if errors.is_empty() {
+            "off (sensor only)".to_string()
+        } else {
+            errors.join(", ")
+        }
+    );
+    for (k, p) in glass.poses.iter().enumerate() {
+        match (p.bip, p.edge_point) {
+            (Some(b), Some(pe)) => {
+                let d = (b.point_b - pe) * 1e3;
                 eprintln!(
-                    "pose {k:2}: BIP − p_e = ({:7.2}, {:7.2}, {:7.2}) mm, |·| {:7.2} mm, from {:?}",
+                    "pose {k:2}: BIP − p_e = ({:7.2}, {:7.2}, {:7.2}) mm, |·| {:6.2} mm, from {}",
                     d.x,
                     d.y,
                     d.z,
                     d.norm(),
-                    label.map(|l| l.name())
+                    b.label.map_or("?", |l| l.name())
                 );
             }
+            (None, _) => eprintln!("pose {k:2}: no BIP"),
+            (Some(_), None) => eprintln!("pose {k:2}: the laser plane misses the true border"),
         }
-        let b = &report.bip_error_mm;
-        eprintln!("BIP error (|BIP − p_e|, {} poses): mean {:.3} ± {:.3} mm, max {:.3} mm   (paper Table 3, glass: 0.94 ± 0.28, max 1.35)", b.n, b.mean, b.std, b.max);
-        match (
-            &report.registration,
-            report.pose_error,
-            &report.task_error_mm,
-        ) {
-            (Ok(r), Some((t, rot)), Some(task)) => {
-                eprintln!(
-                    "ICP: {} iterations, converged {}, degenerate {}, rms {:.3} mm",
-                    r.iterations, r.converged, r.degenerate, r.rms_mm
-                );
-                eprintln!("pose error: {t:.3} mm, {rot:.4}°");
-                eprintln!("task error: mean {:.3} ± {:.3} mm, max {:.3} mm   (paper Table 4: 0.88 ± 0.39, max 1.65)", task.mean, task.std, task.max);
-            }
-            (Err(e), _, _) => eprintln!("registration failed: {e}"),
-            _ => {}
-        }
-        eprintln!("timings: scanning (simulation) {:.2} s, pose estimation {:.6} s   (paper Table 2: 0.023 s)", report.timings_s.0, report.timings_s.1);
     }
-    Ok(())
+    let row = |name: &str, s: &Stats| {
+        format!(
+            "{name:<34} {:>6.3} (± {:.3}) {:>8.3} {:>4}",
+            s.mean, s.std, s.max, s.n
+        )
+    };
+    eprintln!("\nPoint localisation error |BIP − p_e| (mm)   mean (± std)      max    n   [paper Table 3]");
+    eprintln!(
+        "{}",
+        row(
+            &format!("glass, {} rule", glass.settings.rule.name()),
+            &glass.bip_error_mm
+        )
+    );
+    if glass.settings.rule != BipRule::Highest {
+        eprintln!(
+            "{}",
+            row("glass, paper's rule (highest)", &glass.paper_bip_error_mm)
+        );
+    }
+    if let Some(o) = opaque {
+        eprintln!(
+            "{}",
+            row(
+                &format!("opaque copy, {} rule", o.settings.rule.name()),
+                &o.bip_error_mm
+            )
+        );
+        if o.settings.rule != BipRule::Highest {
+            eprintln!(
+                "{}",
+                row("opaque copy, paper's rule", &o.paper_bip_error_mm)
+            );
+        }
+    }
+    eprintln!(
+        "{:<34} {:>6.2} (± {:.2}) {:>8.2}        (opaque 1.01 ± 0.14, max 1.27)",
+        "paper, glass", 0.94, 0.28, 1.35
+    );
+    match (&glass.registration, glass.pose_error, &glass.task_error_mm) {
+        (Ok(r), Some((t, rot)), Some(task)) => {
+            eprintln!(
+                "\nICP: {} iterations, converged {}, degenerate {}, rms {:.3} mm, {} inliers of {}",
+                r.iterations,
+                r.converged,
+                r.degenerate,
+                r.rms_mm,
+                r.inliers.iter().filter(|&&i| i).count(),
+                glass.poses.iter().filter(|p| p.bip.is_some()).count()
+            );
+            eprintln!("pose error: {t:.3} mm, {rot:.4}°");
+            eprintln!("Full pipeline localisation error (mm)     mean (± std)      max    n   [paper Table 4]");
+            eprintln!("{}", row("task error", task));
+            eprintln!(
+                "{:<34} {:>6.2} (± {:.2}) {:>8.2}",
+                "paper", 0.88, 0.39, 1.65
+            );
+            if let Some(c) = &glass.contour_error_mm {
+                eprintln!(
+                    "contour (glue path) error: mean {:.3} mm, max {:.3} mm",
+                    c.mean, c.max
+                );
+            }
+        }
+        (Err(e), _, _) => eprintln!("\nregistration failed: {e}"),
+        _ => {}
+    }
+    eprintln!("\nStage             time (s)   [paper Table 2]");
+    eprintln!(
+        "scanning          {:>9.3}   (14.845; here: simulation, not robot motion)",
+        glass.timings_s.0
+    );
+    eprintln!("pose estimation   {:>9.6}   (0.023)", glass.timings_s.1);
 }

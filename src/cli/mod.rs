@@ -5,8 +5,10 @@
 
 mod flags;
 mod locate;
+mod locate_out;
 mod manifest;
 pub mod progress;
+mod register;
 mod scan;
 
 use std::process::ExitCode;
@@ -31,6 +33,9 @@ pub enum Command {
     /// Scan the target's border, pick a Border Identifier Point per profile, register them to
     /// the model by ICP and report the errors against ground truth (the paper's pipeline).
     Locate(locate::LocateArgs),
+    /// Register your own border points (CSV, base frame, mm) to a scene's target border by
+    /// ICP from its nominal pose, and print the pose.
+    Register(register::RegisterArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -73,6 +78,7 @@ pub fn run() -> ExitCode {
     let outcome = match cli.command {
         Command::Scan(args) => scan::run(args),
         Command::Locate(args) => locate::run(args),
+        Command::Register(args) => register::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

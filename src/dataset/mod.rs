@@ -7,6 +7,7 @@
 //! - `profile_csv`: line profiles (column, sub-pixel row, x and z in mm, intensity in DN,
 //!   peak width in px, validity).
 //! - `json`: manifests and configurations.
+//! - `points_csv`: named-column CSV tables (BIPs) and the x_mm, y_mm, z_mm reader.
 //! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
@@ -25,6 +26,7 @@ pub mod json;
 pub mod output_dir;
 pub mod ply;
 pub mod png16;
+pub mod points_csv;
 pub mod profile_csv;
 
 pub use error::DatasetError;

@@ -6,12 +6,13 @@ use std::time::Instant;
 
 use nalgebra::Point3;
 
+use super::bip::{find_bip, Bip, BipRule};
+use super::errors::{ErrorDraw, ErrorModel};
 use super::poses::{plan_border_scan, ScanPose};
 use super::simulate::{simulate_pose, PoseResult};
 use super::ScanConfig;
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
-use crate::localise::bip::bip_highest;
 use crate::localise::icp::{register, IcpError, IcpSettings, Registration};
 use crate::localise::metrics::{contour_error, pose_error, task_error, Stats};
 use crate::sensor::SensorHead;
@@ -42,15 +43,29 @@ pub fn laser_plane_crossing(
         .map(|(p, _)| sensor * p)
 }
 
+/// How a localisation run picks its BIPs and which error sources it simulates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocateSettings {
+    /// The BIP rule whose points are registered (the paper's is reported alongside).
+    pub rule: BipRule,
+    /// Robot, hand-eye and linearity errors (`ErrorModel::OFF` for the sensor alone).
+    pub errors: ErrorModel,
+}
+
 /// One scan pose of a localisation run.
 #[derive(Clone, Debug)]
 pub struct LocatedPose {
-    /// The pose as commanded (planned on the nominal border) and its simulation.
+    /// The pose as planned (on the nominal border) and as the software believes it is: T_BS
+    /// from the commanded flange and the calibrated mount.
+    pub planned: ScanPose,
+    /// The simulation, at the pose the sensor really had (`result.pose.sensor`).
     pub result: PoseResult,
-    /// Ground truth p_e: the laser plane ∩ the true border (base frame), if they cross.
+    /// Ground truth p_e: the true laser plane ∩ the true border (base frame), if they cross.
     pub edge_point: Option<Point3<f64>>,
-    /// The BIP in the base frame, and the index of the profile point it came from.
-    pub bip: Option<(Point3<f64>, usize)>,
+    /// The BIP by the run's rule, in the base frame as the software computes it.
+    pub bip: Option<Bip>,
+    /// The BIP by the paper's rule (the same as `bip` when that is the run's rule).
+    pub paper_bip: Option<Bip>,
 }
 
 /// A localisation run's outcome.
@@ -58,10 +73,16 @@ pub struct LocatedPose {
 pub struct LocateReport {
     /// Per pose.
     pub poses: Vec<LocatedPose>,
+    /// The settings it ran with.
+    pub settings: LocateSettings,
+    /// The per-run error draw (hand-eye error, linearity phase).
+    pub errors: ErrorDraw,
     /// The registration, if there were enough BIPs.
     pub registration: Result<Registration, IcpError>,
-    /// |BIP − p_e| over the poses that have both (mm).
+    /// |BIP − p_e| of the run's rule over the poses that have both (mm).
     pub bip_error_mm: Stats,
+    /// The same for the paper's rule.
+    pub paper_bip_error_mm: Stats,
     /// Pose error of the estimate (mm, deg), if registered.
     pub pose_error: Option<(f64, f64)>,
     /// Task error (paper's Table 4 metric), mm.
@@ -73,7 +94,8 @@ pub struct LocateReport {
 }
 
 /// Runs the scan-BIP-ICP pipeline. `model_m` is the target's border in its model frame,
-/// `true_pose` its true pose T_BM, `nominal` the coarse pose T_BM0 the robot plans with.
+/// `true_pose` its true pose T_BM, `nominal` the coarse pose T_BM0 the robot plans with,
+/// `mount` the calibrated hand-eye mount T_FS. `on_pose` is called after each pose (progress).
 #[allow(clippy::too_many_arguments)]
 pub fn locate(
     scene: &TraceScene,
@@ -84,38 +106,55 @@ pub fn locate(
     mount: &Pose,
     scan: &ScanConfig,
     trace: &TraceSettings,
+    settings: &LocateSettings,
+    on_pose: &(dyn Fn() + Sync),
 ) -> LocateReport {
     let started = Instant::now();
     let nominal_b = model_m.transformed(nominal);
     let true_b = model_m.transformed(true_pose);
+    let draw = ErrorDraw::new(settings.errors, trace.seed);
+    let range = head.config.range;
     let planned: Vec<ScanPose> = plan_border_scan(&nominal_b, scan, mount);
     let poses: Vec<LocatedPose> = planned
         .into_iter()
         .map(|p| {
-            let result = simulate_pose(scene, head, &p, trace);
-            let edge_point = laser_plane_crossing(&true_b, &p.sensor, scan.standoff_m);
-            let points_b: Vec<Point3<f64>> = result
-                .profile
-                .points
-                .iter()
-                .filter(|q| q.valid)
-                .map(|q| p.sensor * Point3::new(q.x_mm * 1e-3, 0.0, q.z_mm * 1e-3))
-                .collect();
-            let bip = bip_highest(&points_b, 0.0, 0.5e-3).map(|i| (points_b[i], i));
+            let actual = ScanPose {
+                sensor: draw.true_sensor_pose(&p.flange, mount, p.index),
+                ..p.clone()
+            };
+            let mut result = simulate_pose(scene, head, &actual, trace);
+            for q in result.profile.points.iter_mut().filter(|q| q.valid) {
+                q.z_mm += 1e3 * draw.linearity_error(q.z_mm * 1e-3, range.z_min_m, range.z_max_m);
+            }
+            let edge_point = laser_plane_crossing(&true_b, &actual.sensor, scan.standoff_m);
+            let bip = find_bip(&result.profile, &p.sensor, settings.rule);
+            let paper_bip = match settings.rule {
+                BipRule::Highest => bip,
+                _ => find_bip(&result.profile, &p.sensor, BipRule::Highest),
+            };
+            on_pose();
             LocatedPose {
+                planned: p,
                 result,
                 edge_point,
                 bip,
+                paper_bip,
             }
         })
         .collect();
     let scanning_s = started.elapsed().as_secs_f64();
 
-    let bip_errors: Vec<f64> = poses
+    let errors_of = |pick: fn(&LocatedPose) -> Option<Bip>| {
+        let e: Vec<f64> = poses
+            .iter()
+            .filter_map(|p| Some((pick(p)?.point_b - p.edge_point?).norm() * 1e3))
+            .collect();
+        Stats::from_values(&e)
+    };
+    let bips: Vec<Point3<f64>> = poses
         .iter()
-        .filter_map(|p| Some((p.bip?.0 - p.edge_point?).norm() * 1e3))
+        .filter_map(|p| p.bip.map(|b| b.point_b))
         .collect();
-    let bips: Vec<Point3<f64>> = poses.iter().filter_map(|p| p.bip.map(|b| b.0)).collect();
     let t0 = Instant::now();
     let registration = register(model_m, &bips, nominal, &IcpSettings::robust());
     let icp_s = t0.elapsed().as_secs_f64();
@@ -131,9 +170,12 @@ pub fn locate(
         Err(_) => (None, None, None),
     };
     LocateReport {
+        bip_error_mm: errors_of(|p| p.bip),
+        paper_bip_error_mm: errors_of(|p| p.paper_bip),
         poses,
+        settings: *settings,
+        errors: draw,
         registration,
-        bip_error_mm: Stats::from_values(&bip_errors),
         pose_error: pose_err,
         task_error_mm: task,
         contour_error_mm: contour,

@@ -134,3 +134,24 @@ pub struct World {
     /// Scan settings (CLI flags may override them).
     pub scan: ScanConfig,
 }
+
+/// Albedo of the opaque copy of a target (the paper's Table 3 compares the glass with an
+/// opaque object of the same shape; its surface is not described, so a matte mid-grey is a
+/// modelling choice, L).
+pub const OPAQUE_COPY_ALBEDO: f64 = 0.5;
+
+impl World {
+    /// The same scene with the target made of an opaque Lambertian material of `albedo`
+    /// (same mesh, pose and border): the paper's opaque-object comparison. `None` without a
+    /// target.
+    pub fn with_opaque_target(&self, albedo: f64) -> Option<World> {
+        let target = self.target.as_ref()?;
+        let mut world = self.clone();
+        world.materials.push(NamedMaterial {
+            name: "opaque_copy".into(),
+            material: Material::Lambertian { albedo },
+        });
+        world.objects[target.object].material = world.materials.len() - 1;
+        Some(world)
+    }
+}

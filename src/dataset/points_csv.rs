@@ -1,0 +1,153 @@
+//! Points as CSV with a header that names the columns: BIPs written by `glassscan locate --out`
+//! and the user's own points read by `glassscan register`. The reader finds `x_mm`, `y_mm` and
+//! `z_mm` by name (other columns, in any order, are ignored), so a spreadsheet's export works.
+//! A row whose three coordinates are all empty (a pose without a BIP) is skipped; anything
+//! else that is not a finite number is an error naming the file, line and column.
+
+use std::path::Path;
+
+use super::atomic::write_atomic;
+use super::DatasetError;
+
+/// A table of named columns, written as CSV with Rust's shortest round-trip floats.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CsvTable {
+    /// Column names (the header).
+    pub columns: Vec<String>,
+    /// Rows of already formatted fields, one per column (no commas or newlines inside).
+    pub rows: Vec<Vec<String>>,
+}
+
+/// Writes `table` at `path`, atomically. Every row must have one field per column.
+pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), DatasetError> {
+    for (i, r) in table.rows.iter().enumerate() {
+        if r.len() != table.columns.len() {
+            return Err(DatasetError::CsvFieldCount {
+                path: path.to_path_buf(),
+                line: i + 2,
+                expected: table.columns.len(),
+                found: r.len(),
+            });
+        }
+    }
+    write_atomic(path, |w| {
+        writeln!(w, "{}", table.columns.join(","))?;
+        for r in &table.rows {
+            writeln!(w, "{}", r.join(","))?;
+        }
+        Ok(())
+    })
+}
+
+/// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm); rows with all three empty are
+/// skipped. Returns the points with their 1-based line numbers.
+pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
+    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    const EXPECTED: &str = "x_mm,y_mm,z_mm (among other columns, in any order)";
+    let header = lines.next().map_or("", |(_, l)| l);
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |name: &str| names.iter().position(|n| *n == name);
+    let (Some(ix), Some(iy), Some(iz)) = (find("x_mm"), find("y_mm"), find("z_mm")) else {
+        return Err(DatasetError::CsvHeader {
+            path: path.to_path_buf(),
+            expected: EXPECTED,
+            found: header.to_string(),
+        });
+    };
+    let mut points = Vec::new();
+    for (n, line) in lines {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        if f.len() != names.len() {
+            return Err(DatasetError::CsvFieldCount {
+                path: path.to_path_buf(),
+                line: n,
+                expected: names.len(),
+                found: f.len(),
+            });
+        }
+        if f[ix].is_empty() && f[iy].is_empty() && f[iz].is_empty() {
+            continue;
+        }
+        let mut p = [0.0; 3];
+        for (k, (i, column)) in [(ix, "x_mm"), (iy, "y_mm"), (iz, "z_mm")]
+            .into_iter()
+            .enumerate()
+        {
+            p[k] = f[i]
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| DatasetError::CsvValue {
+                    path: path.to_path_buf(),
+                    line: n,
+                    column,
+                    expected: "a finite number (mm)",
+                    found: f[i].to_string(),
+                })?;
+        }
+        points.push((n, p));
+    }
+    Ok(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_points_read_back_exactly_and_empty_rows_are_skipped() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bips.csv");
+        let f = |v: f64| v.to_string();
+        let table = CsvTable {
+            columns: ["pose", "x_mm", "y_mm", "z_mm", "label"]
+                .map(String::from)
+                .to_vec(),
+            rows: vec![
+                vec![
+                    "0".into(),
+                    f(1.0 / 3.0),
+                    f(-2.5),
+                    f(44.000001),
+                    "glass_edge".into(),
+                ],
+                vec![
+                    "1".into(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                ],
+                vec!["2".into(), f(7.0), f(8.0), f(9.0), String::new()],
+            ],
+        };
+        write_csv_table(&path, &table).unwrap();
+        let pts = read_points_csv(&path).unwrap();
+        assert_eq!(
+            pts,
+            vec![(2, [1.0 / 3.0, -2.5, 44.000001]), (4, [7.0, 8.0, 9.0])]
+        );
+    }
+
+    #[test]
+    fn errors_name_the_line_and_column() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.csv");
+        std::fs::write(&path, "z_mm,x_mm,y_mm\n1,2,3\n4,nan,6\n").unwrap();
+        let e = read_points_csv(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("p.csv:3") && e.contains("x_mm") && e.contains("nan"),
+            "{e}"
+        );
+        std::fs::write(&path, "a,b\n1,2\n").unwrap();
+        let e = read_points_csv(&path).unwrap_err().to_string();
+        assert!(e.contains("p.csv:1") && e.contains("x_mm"), "{e}");
+        std::fs::write(&path, "x_mm,y_mm,z_mm\n1,2\n").unwrap();
+        let e = read_points_csv(&path).unwrap_err().to_string();
+        assert!(e.contains("p.csv:2") && e.contains("3"), "{e}");
+    }
+}
