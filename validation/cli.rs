@@ -365,3 +365,55 @@ fn locate_and_register_refuse_bad_input_with_exit_2() {
         stderr(&o)
     );
 }
+
+#[test]
+fn check_passes_against_its_own_baseline_and_fails_on_a_regression() {
+    let tmp = tempfile::tempdir().unwrap();
+    let suite = tmp.path().join("tiny.toml");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/flat_opaque.toml");
+    std::fs::write(
+        &suite,
+        format!(
+            "[[case]]\nname = \"plate\"\nscene = {:?}\nposes = 3\nseed = 1\nphotons = 16384\n",
+            scene.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let o = glassscan(&["check", s(&suite), "--update-baseline", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let baseline = tmp.path().join("tiny.baseline.json");
+    let o = glassscan(&["check", s(&suite)]);
+    assert!(
+        o.status.success(),
+        "same seed, same metrics: {}",
+        stderr(&o)
+    );
+    // Pretend the BIPs used to be better than they are now.
+    let mut b: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&baseline).unwrap()).unwrap();
+    let cur = b["cases"]["plate"]["bip_error_mean_mm"].as_f64().unwrap();
+    b["cases"]["plate"]["bip_error_mean_mm"] = serde_json::json!(cur - 0.05);
+    std::fs::write(&baseline, serde_json::to_vec(&b).unwrap()).unwrap();
+    let o = glassscan(&["check", s(&suite)]);
+    assert_eq!(o.status.code(), Some(1));
+    let table = String::from_utf8_lossy(&o.stdout);
+    let line = table
+        .lines()
+        .find(|l| l.contains("bip_error_mean_mm"))
+        .unwrap();
+    assert!(line.contains("Regressed"), "{table}");
+    assert!(
+        stderr(&o).contains("1 metric(s) regressed"),
+        "{}",
+        stderr(&o)
+    );
+    // A bad suite is bad input.
+    std::fs::write(
+        &suite,
+        "[[case]]\nname = \"x\"\nscene = \"s.toml\"\nseed = 1\nphotons = 5\n",
+    )
+    .unwrap();
+    let o = glassscan(&["check", s(&suite)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("photons"), "{}", stderr(&o));
+}

@@ -53,6 +53,11 @@ pub struct LocateArgs {
     /// Also run the opaque copy of the target (same shape, matte) for the paper's Table 3.
     #[arg(long)]
     pub opaque_copy: bool,
+    /// Exposure of the opaque copy's scan in milliseconds (> 0); default: the glass scan's.
+    /// A matte copy that the glass's exposure saturates is better scanned shorter, as an
+    /// operator would.
+    #[arg(long, value_name = "MS", requires = "opaque_copy")]
+    pub opaque_exposure_ms: Option<f64>,
     /// Write profiles, BIPs (CSV), poses (JSON), PLY clouds and the summary into DIR.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -97,6 +102,8 @@ pub(super) fn parse_errors(s: &str) -> Result<ErrorModel, CliError> {
 /// The validated inputs of a run.
 struct Resolved {
     world: World,
+    /// The opaque copy of `world`'s target, if asked for.
+    opaque: Option<World>,
     scan: ScanConfig,
     settings: LocateSettings,
     trace: TraceSettings,
@@ -137,11 +144,24 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
         world.objects[target.object].pose =
             target.nominal_pose * pose_from_mm_deg([dx, dy, dz], [rx, ry, rz]);
     }
+    let opaque = match args.opaque_copy {
+        false => None,
+        true => {
+            let mut w = world
+                .with_opaque_target(OPAQUE_COPY_ALBEDO)
+                .expect("the target exists");
+            if let Some(ms) = args.opaque_exposure_ms {
+                w.sensor.imager.exposure_s = flags::exposure_s(ms)?;
+            }
+            Some(w)
+        }
+    };
     if let Some(dir) = &args.out {
         crate::dataset::output_dir::prepare_output_dir(dir, args.force).map_err(CliError::input)?;
     }
     Ok(Resolved {
         world,
+        opaque,
         scan,
         settings: LocateSettings { rule, errors },
         trace: TraceSettings {
@@ -216,14 +236,9 @@ pub(super) fn summary_json(report: &LocateReport) -> Value {
 pub fn run(args: LocateArgs) -> Result<(), CliError> {
     let r = resolve(&args)?;
     let glass = run_on(&r.world, &r, args.json, "poses")?;
-    let opaque = if args.opaque_copy {
-        let world = r
-            .world
-            .with_opaque_target(OPAQUE_COPY_ALBEDO)
-            .expect("checked in resolve");
-        Some(run_on(&world, &r, args.json, "poses (opaque copy)")?)
-    } else {
-        None
+    let opaque = match &r.opaque {
+        Some(world) => Some(run_on(world, &r, args.json, "poses (opaque copy)")?),
+        None => None,
     };
     let mut summary = summary_json(&glass);
     let extra = json!({
@@ -232,7 +247,13 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         "scan_angle_deg": r.scan.scan_angle_rad.to_degrees(),
         "seed": args.seed,
         "photons": args.photons,
-        "opaque_copy": opaque.as_ref().map(summary_json),
+        "opaque_copy": opaque.as_ref().map(|o| {
+            let mut v = summary_json(o);
+            let ms = r.opaque.as_ref().expect("ran").sensor.imager.exposure_s * 1e3;
+            v["exposure_ms"] = json!(ms);
+            v
+        }),
+        "exposure_ms": r.world.sensor.imager.exposure_s * 1e3,
     });
     summary
         .as_object_mut()
@@ -244,11 +265,9 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
             let sub = dir.join("opaque_copy");
             crate::dataset::output_dir::prepare_output_dir(&sub, true)
                 .map_err(CliError::internal)?;
-            let world = r
-                .world
-                .with_opaque_target(OPAQUE_COPY_ALBEDO)
-                .expect("a target");
-            locate_out::write_run(&sub, &world, o, &summary_json(o)).map_err(CliError::internal)?;
+            let world = r.opaque.as_ref().expect("ran");
+            locate_out::write_run(&sub, world, o, &summary["opaque_copy"])
+                .map_err(CliError::internal)?;
         }
     }
     if args.json {

@@ -3,6 +3,7 @@
 //!
 //! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
 
+mod check;
 mod flags;
 mod locate;
 mod locate_out;
@@ -36,6 +37,9 @@ pub enum Command {
     /// Register your own border points (CSV, base frame, mm) to a scene's target border by
     /// ICP from its nominal pose, and print the pose.
     Register(register::RegisterArgs),
+    /// Run a regression suite (validation/check/) and compare its metrics with the committed
+    /// baseline; exit 1 if any regressed.
+    Check(check::CheckArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -79,6 +83,7 @@ pub fn run() -> ExitCode {
         Command::Scan(args) => scan::run(args),
         Command::Locate(args) => locate::run(args),
         Command::Register(args) => register::run(args),
+        Command::Check(args) => check::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
