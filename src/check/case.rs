@@ -1,28 +1,18 @@
 //! Running one case of a suite: the localisation pipeline of `glassscan locate` on the case's
 //! scene and settings, reduced to the metrics of `compare::METRICS`.
 
-use anyhow::Context;
-
 use super::compare::Metrics;
 use super::suite::CaseDef;
 use crate::scan::bip::BipRule;
 use crate::scan::errors::ErrorModel;
-use crate::scan::locate::{locate, LocateSettings};
+use crate::scan::locate::{locate_world, LocateSettings};
 use crate::scene;
-use crate::sensor::SensorHead;
-use crate::transport::{TraceScene, TraceSettings};
+use crate::transport::TraceSettings;
 
 /// Runs `case` (scene paths relative to the current directory) and returns its metrics.
 /// Errors are bad input (a scene that does not load or has no target).
 pub fn run_case(case: &CaseDef) -> anyhow::Result<Metrics> {
     let mut world = scene::load(&case.scene).map_err(anyhow::Error::new)?;
-    let target = world.target.clone().with_context(|| {
-        format!(
-            "case {:?}: {}: the scene has no [target] to locate",
-            case.name,
-            case.scene.display()
-        )
-    })?;
     let mut scan = world.scan;
     if let Some(a) = case.scan_angle_deg {
         scan.scan_angle_rad = a.to_radians();
@@ -40,24 +30,12 @@ pub fn run_case(case: &CaseDef) -> anyhow::Result<Metrics> {
             _ => ErrorModel::OFF,
         },
     };
-    let head = SensorHead::new(&world.sensor)?;
-    let trace_scene = TraceScene::new(&world)?;
-    let report = locate(
-        &trace_scene,
-        &head,
-        &target.border,
-        &world.objects[target.object].pose,
-        &target.nominal_pose,
-        &world.mount,
-        &scan,
-        &TraceSettings {
-            photons: case.photons,
-            max_depth: 64,
-            seed: case.seed,
-        },
-        &settings,
-        &|| {},
-    );
+    let trace = TraceSettings {
+        photons: case.photons,
+        max_depth: 64,
+        seed: case.seed,
+    };
+    let report = locate_world(&world, &scan, &trace, &settings, &|| {})?;
     let (valid, all) = report.poses.iter().fold((0usize, 0usize), |(v, a), p| {
         let pts = &p.result.profile.points;
         (v + pts.iter().filter(|q| q.valid).count(), a + pts.len())

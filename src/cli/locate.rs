@@ -11,12 +11,11 @@ use crate::geometry::pose::{pose_from_mm_deg, pose_to_mm_deg};
 use crate::localise::metrics::Stats;
 use crate::scan::bip::BipRule;
 use crate::scan::errors::ErrorModel;
-use crate::scan::locate::{locate, LocateReport, LocateSettings};
+use crate::scan::locate::{locate_world, LocateReport, LocateSettings};
 use crate::scan::ScanConfig;
 use crate::scene::world::{World, OPAQUE_COPY_ALBEDO};
 use crate::scene::{self};
-use crate::sensor::SensorHead;
-use crate::transport::{TraceScene, TraceSettings};
+use crate::transport::TraceSettings;
 
 /// Arguments of `glassscan locate`.
 #[derive(Debug, Args)]
@@ -174,22 +173,9 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
 
 /// Runs the pipeline on `world` (whose target exists).
 fn run_on(world: &World, r: &Resolved, quiet: bool, what: &str) -> Result<LocateReport, CliError> {
-    let target = world.target.as_ref().expect("checked in resolve");
-    let head = SensorHead::new(&world.sensor).map_err(CliError::input)?;
-    let trace_scene = TraceScene::new(world).map_err(CliError::input)?;
     let bar = progress::bar(r.scan.poses as u64, what, quiet);
-    let report = locate(
-        &trace_scene,
-        &head,
-        &target.border,
-        &world.objects[target.object].pose,
-        &target.nominal_pose,
-        &world.mount,
-        &r.scan,
-        &r.trace,
-        &r.settings,
-        &|| bar.inc(1),
-    );
+    let report = locate_world(world, &r.scan, &r.trace, &r.settings, &|| bar.inc(1))
+        .map_err(CliError::input)?;
     bar.finish_and_clear();
     Ok(report)
 }

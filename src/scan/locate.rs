@@ -15,6 +15,7 @@ use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::localise::icp::{register, IcpError, IcpSettings, Registration};
 use crate::localise::metrics::{contour_error, pose_error, task_error, Stats};
+use crate::scene::World;
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
 
@@ -181,4 +182,35 @@ pub fn locate(
         contour_error_mm: contour,
         timings_s: (scanning_s, icp_s),
     }
+}
+
+/// [`locate`] on a whole scene: its target (true pose, nominal pose, border), its sensor and
+/// mount. Errors: no target, or a sensor or scene the simulator cannot build (bad input).
+pub fn locate_world(
+    world: &World,
+    scan: &ScanConfig,
+    trace: &TraceSettings,
+    settings: &LocateSettings,
+    on_pose: &(dyn Fn() + Sync),
+) -> anyhow::Result<LocateReport> {
+    let target = world.target.as_ref().ok_or_else(|| {
+        anyhow::anyhow!(
+            "{}: the scene has no [target] whose border could be located",
+            world.source.display()
+        )
+    })?;
+    let head = SensorHead::new(&world.sensor)?;
+    let trace_scene = TraceScene::new(world)?;
+    Ok(locate(
+        &trace_scene,
+        &head,
+        &target.border,
+        &world.objects[target.object].pose,
+        &target.nominal_pose,
+        &world.mount,
+        scan,
+        trace,
+        settings,
+        on_pose,
+    ))
 }
