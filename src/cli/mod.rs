@@ -3,11 +3,14 @@
 //!
 //! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
 
+mod dataset;
 mod flags;
 mod locate;
 mod manifest;
+mod merge;
 pub mod progress;
 mod scan;
+mod score;
 
 use std::process::ExitCode;
 
@@ -31,6 +34,13 @@ pub enum Command {
     /// Scan the target's border, pick a Border Identifier Point per profile, register them to
     /// the model by ICP and report the errors against ground truth (the paper's pipeline).
     Locate(locate::LocateArgs),
+    /// Make N samples of synthetic sensor data with exact ground truth, optionally with domain
+    /// randomisation, in shards, resumable.
+    Dataset(dataset::DatasetArgs),
+    /// Join the shard manifests of a dataset into one manifest.jsonl sorted by sample index.
+    Merge(merge::MergeArgs),
+    /// Score your own Border Identifier Points (CSV) against a dataset's ground truth.
+    Score(score::ScoreArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -73,6 +83,9 @@ pub fn run() -> ExitCode {
     let outcome = match cli.command {
         Command::Scan(args) => scan::run(args),
         Command::Locate(args) => locate::run(args),
+        Command::Dataset(args) => dataset::run(args),
+        Command::Merge(args) => merge::run(args),
+        Command::Score(args) => score::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
