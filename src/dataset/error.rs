@@ -233,6 +233,15 @@ pub enum DatasetError {
         message: String,
     },
 
+    /// A dataset file or directory that is not there or not what a command needs.
+    #[error("{}: {message}", path.display())]
+    NotADataset {
+        /// The file or directory.
+        path: PathBuf,
+        /// What is missing and what to do.
+        message: String,
+    },
+
     /// A dataset directory holds a run that differs from this one (another scene, seed, …).
     #[error(
         "{} holds a dataset of another run ({}): choose another directory, or repeat the \

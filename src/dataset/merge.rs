@@ -80,9 +80,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError>
             .collect();
         names.sort_by_key(|(s, _)| (s.count, s.index));
         if names.is_empty() {
-            return Err(DatasetError::ManifestLine {
+            return Err(DatasetError::NotADataset {
                 path: dir.clone(),
-                line: 0,
                 message: "holds no shard manifest (manifest-shard-K-of-N.jsonl)".into(),
             });
         }
@@ -93,9 +92,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError>
         }));
     }
     let Some((_, info)) = info else {
-        return Err(DatasetError::ManifestLine {
+        return Err(DatasetError::NotADataset {
             path: out.to_path_buf(),
-            line: 0,
             message: "no dataset directory to merge".into(),
         });
     };

@@ -119,9 +119,8 @@ pub struct ScoreReport {
 pub fn score(dataset: &Path, bips: &Path) -> Result<ScoreReport, DatasetError> {
     let manifest = dataset.join(MANIFEST);
     if !manifest.is_file() {
-        return Err(DatasetError::ManifestLine {
+        return Err(DatasetError::NotADataset {
             path: manifest,
-            line: 0,
             message: "not found: score needs a whole dataset (run `glassscan merge` on a \
                       sharded one first)"
                 .into(),
