@@ -19,10 +19,25 @@ fn scene_path(name: &str) -> std::path::PathBuf {
 fn every_shipped_scene_loads() {
     for entry in std::fs::read_dir(scene_path("")).unwrap() {
         let path = entry.unwrap().path();
-        if path.extension().is_some_and(|e| e == "toml") {
-            let world = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-            assert!(!world.objects.is_empty(), "{}", path.display());
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
         }
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        // `randomize_X.toml` holds the domain-randomisation ranges for `X.toml`: every range
+        // must parse and be accepted by that scene at both of its ends.
+        if let Some(scene_name) = name.strip_prefix("randomize_") {
+            let r = glassscan::dataset::randomize::Randomization::load(&path)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let template =
+                glassscan::dataset::scene_edit::SceneTemplate::load(&scene_path(scene_name))
+                    .unwrap_or_else(|e| panic!("{name}: {e}"));
+            template
+                .check_randomization(&r)
+                .unwrap_or_else(|e| panic!("{e}"));
+            continue;
+        }
+        let world = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!world.objects.is_empty(), "{}", path.display());
     }
 }
 

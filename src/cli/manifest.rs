@@ -5,32 +5,13 @@ use std::time::Duration;
 
 use serde::Serialize;
 
-use crate::geometry::pose::{pose_to_mm_deg, Pose};
+pub use crate::geometry::pose::PoseMmDeg;
 use crate::scan::simulate::PoseResult;
 use crate::scan::ScanConfig;
 use crate::scene::World;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorConfig;
 use crate::transport::{TraceSettings, TraceStats};
-
-/// A pose as millimetres and degrees (fixed-axis x, y, z; R = Rz·Ry·Rx).
-#[derive(Debug, Serialize)]
-pub struct PoseMmDeg {
-    /// Translation (mm).
-    pub translation_mm: [f64; 3],
-    /// Rotation (deg).
-    pub rotation_deg: [f64; 3],
-}
-
-impl From<&Pose> for PoseMmDeg {
-    fn from(p: &Pose) -> Self {
-        let (translation_mm, rotation_deg) = pose_to_mm_deg(p);
-        PoseMmDeg {
-            translation_mm,
-            rotation_deg,
-        }
-    }
-}
 
 /// One written file.
 #[derive(Debug, Serialize)]

@@ -4,13 +4,16 @@
 //! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
 
 mod check;
+mod dataset;
 mod flags;
 mod locate;
 mod locate_out;
 mod manifest;
+mod merge;
 pub mod progress;
 mod register;
 mod scan;
+mod score;
 
 use std::process::ExitCode;
 
@@ -40,6 +43,13 @@ pub enum Command {
     /// Run a regression suite (validation/check/) and compare its metrics with the committed
     /// baseline; exit 1 if any regressed.
     Check(check::CheckArgs),
+    /// Make N samples of synthetic sensor data with exact ground truth, optionally with domain
+    /// randomisation, in shards, resumable.
+    Dataset(dataset::DatasetArgs),
+    /// Join the shard manifests of a dataset into one manifest.jsonl sorted by sample index.
+    Merge(merge::MergeArgs),
+    /// Score your own Border Identifier Points (CSV) against a dataset's ground truth.
+    Score(score::ScoreArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -84,6 +94,9 @@ pub fn run() -> ExitCode {
         Command::Locate(args) => locate::run(args),
         Command::Register(args) => register::run(args),
         Command::Check(args) => check::run(args),
+        Command::Dataset(args) => dataset::run(args),
+        Command::Merge(args) => merge::run(args),
+        Command::Score(args) => score::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

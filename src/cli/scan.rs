@@ -16,7 +16,7 @@ use crate::scene;
 use crate::sensor::imager::SensorKind;
 use crate::sensor::profile::{PeakSelect, Threshold};
 use crate::sensor::SensorHead;
-use crate::transport::{PathClass, TraceScene, TraceSettings};
+use crate::transport::{TraceScene, TraceSettings};
 
 /// Arguments of `glassscan scan`.
 #[derive(Debug, Args)]
@@ -187,7 +187,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
         .border
         .transformed(&world.objects[target.object].pose);
     let poses = plan_border_scan(&border_b, &cfg.scan, &world.mount);
-    let bits_shift = 16 - world.sensor.imager.adc_bits;
+    let adc_bits = world.sensor.imager.adc_bits;
 
     let mut entries = Vec::with_capacity(poses.len());
     for pose in &poses {
@@ -196,34 +196,10 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
         let png = format!("{stem}.png");
         let exr_name = format!("{stem}.exr");
         let csv = format!("{stem}_profile.csv");
-        // Left-align the ADC value in 16 bits, as the SDK's container mode does (PARAMETERS.md §1b).
-        let mut shifted = result.image.clone();
-        for v in &mut shifted.data {
-            *v <<= bits_shift;
-        }
-        png16::write_png16(&cfg.out.join(&png), &shifted).map_err(CliError::internal)?;
-        let to_f32 = |img: &crate::sensor::image::Image<f64>| -> Vec<f32> {
-            img.data.iter().map(|&v| v as f32).collect()
-        };
-        let total = to_f32(&result.irradiance.total);
-        let classes: Vec<(String, Vec<f32>)> = PathClass::ALL
-            .iter()
-            .map(|c| {
-                (
-                    format!("class.{}", c.name()),
-                    to_f32(&result.irradiance.by_class[c.index()]),
-                )
-            })
-            .collect();
-        let mut layers: Vec<(&str, &[f32])> = vec![("irradiance", &total)];
-        layers.extend(classes.iter().map(|(n, d)| (n.as_str(), d.as_slice())));
-        exr::write_exr_layers(
-            &cfg.out.join(&exr_name),
-            result.irradiance.total.width,
-            result.irradiance.total.height,
-            &layers,
-        )
-        .map_err(CliError::internal)?;
+        png16::write_sensor_png16(&cfg.out.join(&png), &result.image, adc_bits)
+            .map_err(CliError::internal)?;
+        exr::write_irradiance_exr(&cfg.out.join(&exr_name), &result.irradiance)
+            .map_err(CliError::internal)?;
         profile_csv::write_profile_csv(&cfg.out.join(&csv), &result.profile)
             .map_err(CliError::internal)?;
         let entry = PoseEntry::new(

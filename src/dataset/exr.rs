@@ -21,6 +21,8 @@ use super::atomic::write_atomic;
 use super::error::check_image_size;
 use super::DatasetError;
 use crate::sensor::image::Image;
+use crate::sensor::path_class::PathClass;
+use crate::transport::Irradiance;
 
 /// ZIP over blocks of 16 scanlines: lossless, and well supported by every EXR viewer. Scanlines
 /// in increasing y make the file bytes independent of how many threads compress them.
@@ -88,6 +90,30 @@ pub fn write_exr_layers(
         })?;
     let encoded = encoded.into_inner();
     write_atomic(path, |w| w.write_all(&encoded))
+}
+
+/// Writes a pose's irradiance (W/m²) as f32 layers: `irradiance` (the total) and
+/// `class.<path class>` for each path class.
+pub fn write_irradiance_exr(path: &Path, irradiance: &Irradiance) -> Result<(), DatasetError> {
+    let to_f32 = |img: &Image<f64>| -> Vec<f32> { img.data.iter().map(|&v| v as f32).collect() };
+    let total = to_f32(&irradiance.total);
+    let classes: Vec<(String, Vec<f32>)> = PathClass::ALL
+        .iter()
+        .map(|c| {
+            (
+                format!("class.{}", c.name()),
+                to_f32(&irradiance.by_class[c.index()]),
+            )
+        })
+        .collect();
+    let mut layers: Vec<(&str, &[f32])> = vec![("irradiance", &total)];
+    layers.extend(classes.iter().map(|(n, d)| (n.as_str(), d.as_slice())));
+    write_exr_layers(
+        path,
+        irradiance.total.width,
+        irradiance.total.height,
+        &layers,
+    )
 }
 
 /// Reads every channel of a single-part EXR as an f32 layer, in the file's (alphabetical)

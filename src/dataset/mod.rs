@@ -11,6 +11,16 @@
 //! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
+//! Synthetic datasets (`glassscan dataset`, `merge`, `score`), built on the writers above and
+//! on `scene` and `scan`:
+//! - `randomize` (the `--randomize` ranges and the per-sample draws), `scene_edit` (a scene
+//!   file edited with the draws and loaded again), `ideal_profile` (the exact cross-section
+//!   the laser plane cuts), `sample` (one sample end to end), `sample_files` (its directory);
+//! - `manifest` (`run.json` and the JSON-lines manifests), `dataset_dir` (refuse, start or
+//!   resume an output directory), `shard` (`--shard K/N` and scheduler environments),
+//!   `generate` (the run loop), `merge` (shard manifests → `manifest.jsonl`), `score` (a
+//!   user's BIPs against the ground truth).
+//!
 //! Invariants:
 //! - Only `scene` (reading inputs) and `dataset` (writing outputs) touch the file system.
 //! - Every file is written atomically (temporary file in the same directory, `sync_all`,
@@ -20,13 +30,24 @@
 //! - Every error names the file, and the line and column where there is one.
 
 pub mod atomic;
+pub mod dataset_dir;
 pub mod error;
 pub mod exr;
+pub mod generate;
+pub mod ideal_profile;
 pub mod json;
+pub mod manifest;
+pub mod merge;
 pub mod output_dir;
 pub mod ply;
 pub mod png16;
 pub mod points_csv;
 pub mod profile_csv;
+pub mod randomize;
+pub mod sample;
+pub mod sample_files;
+pub mod scene_edit;
+pub mod score;
+pub mod shard;
 
 pub use error::DatasetError;

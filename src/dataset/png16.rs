@@ -47,6 +47,22 @@ pub fn write_png16(path: &Path, img: &Image<u16>) -> Result<(), DatasetError> {
     write_atomic(path, |w| w.write_all(&encoded))
 }
 
+/// Writes a sensor image of `adc_bits`-bit digital numbers left-aligned in 16 bits (DN <<
+/// (16 − adc_bits)), as the SDK's container mode does (PARAMETERS.md §1b).
+pub fn write_sensor_png16(
+    path: &Path,
+    img: &Image<u16>,
+    adc_bits: u32,
+) -> Result<(), DatasetError> {
+    let shift = 16u32.saturating_sub(adc_bits);
+    let shifted = Image {
+        width: img.width,
+        height: img.height,
+        data: img.data.iter().map(|v| v << shift).collect(),
+    };
+    write_png16(path, &shifted)
+}
+
 /// Reads a 16-bit greyscale PNG written by [`write_png16`] (or any other L16 PNG). Any other
 /// colour type or bit depth is refused with [`DatasetError::PngFormat`], never converted.
 pub fn read_png16(path: &Path) -> Result<Image<u16>, DatasetError> {

@@ -62,3 +62,23 @@ mod tests {
         assert!((v - Vector3::z()).norm() < 1e-12);
     }
 }
+
+/// A pose as millimetres and degrees (fixed-axis x, y, z; R = Rz·Ry·Rx), the form every output
+/// file and report uses.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PoseMmDeg {
+    /// Translation (mm).
+    pub translation_mm: [f64; 3],
+    /// Rotation (deg).
+    pub rotation_deg: [f64; 3],
+}
+
+impl From<&Pose> for PoseMmDeg {
+    fn from(p: &Pose) -> Self {
+        let (translation_mm, rotation_deg) = pose_to_mm_deg(p);
+        PoseMmDeg {
+            translation_mm,
+            rotation_deg,
+        }
+    }
+}

@@ -50,8 +50,16 @@ pub fn load(path: &Path) -> Result<World, SceneError> {
         path: path.to_owned(),
         source,
     })?;
-    let src = SceneSource { path, text: &text };
-    let file: SceneFile = toml::from_str(&text).map_err(|e| src.parse_error(&e))?;
+    load_str(path, &text)
+}
+
+/// Builds the `World` described by `text`, as if it were the contents of the scene file
+/// `path`: errors name `path` (with line and column in `text`) and mesh files are resolved
+/// against `path`'s folder. The dataset generator uses it to load a scene whose parsed TOML it
+/// edited (domain randomisation), so the edited scene goes through exactly the same checks.
+pub fn load_str(path: &Path, text: &str) -> Result<World, SceneError> {
+    let src = SceneSource { path, text };
+    let file: SceneFile = toml::from_str(text).map_err(|e| src.parse_error(&e))?;
     build_world(&src, &file)
 }
 

@@ -24,5 +24,5 @@ mod sensor_overrides;
 pub mod world;
 
 pub use error::SceneError;
-pub use load::load;
+pub use load::{load, load_str};
 pub use world::World;

@@ -1,0 +1,150 @@
+//! `glassscan dataset SCENE --count N --out DIR`: synthetic sensor data with exact ground truth
+//! (the work is `dataset::generate`; this file resolves the flags and the shard).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+
+use super::{flags, progress, CliError};
+use crate::dataset::generate::DatasetRun;
+use crate::dataset::randomize::Randomization;
+use crate::dataset::scene_edit::SceneTemplate;
+use crate::dataset::shard::Shard;
+
+/// Arguments of `glassscan dataset`.
+#[derive(Debug, Args)]
+pub struct DatasetArgs {
+    /// Scene file (TOML) with a [target] panel.
+    pub scene: PathBuf,
+    /// Number of samples of the whole dataset (all shards), ≥ 1.
+    #[arg(long, value_name = "N")]
+    pub count: u64,
+    /// Output directory (created if missing; see --resume).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Master seed: sample i's draws depend only on (S, i).
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub seed: u64,
+    /// Domain-randomisation ranges (TOML, `name = [min, max]` lines; see
+    /// scenes/randomize_edge_study.toml).
+    #[arg(long, value_name = "FILE")]
+    pub randomize: Option<PathBuf>,
+    /// Make only the samples i with i % N == K (0 ≤ K < N). Default: from SLURM_ARRAY_TASK_ID
+    /// (with SLURM_ARRAY_TASK_COUNT or _MIN/_MAX) or JOB_COMPLETION_INDEX (with
+    /// GLASSSCAN_SHARD_COUNT), else the whole dataset.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Continue a killed run in DIR: keep its finished samples, redo the others.
+    #[arg(long)]
+    pub resume: bool,
+    /// Laser photons traced per sample (≥ 1000).
+    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    pub photons: u64,
+    /// Longest photon path, in surface interactions including specular ones (≥ 1).
+    #[arg(long, value_name = "D", default_value_t = 64)]
+    pub max_depth: u32,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+    /// Print a machine-readable summary on stdout instead of progress on stderr.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `glassscan dataset`.
+pub fn run(args: DatasetArgs) -> Result<(), CliError> {
+    let bad = flags::bad_flag;
+    if args.count == 0 {
+        return Err(bad("count", "must be ≥ 1, got 0".into()));
+    }
+    flags::photons(args.photons)?;
+    if args.max_depth == 0 {
+        return Err(bad("max-depth", "must be ≥ 1, got 0".into()));
+    }
+    if args.threads == Some(0) {
+        return Err(bad("threads", "must be ≥ 1, got 0".into()));
+    }
+    let shard = match &args.shard {
+        Some(s) => Shard::parse_flag(s).map_err(CliError::input)?,
+        None => Shard::from_env(|name| std::env::var(name).ok())
+            .map_err(CliError::input)?
+            .unwrap_or(Shard::ALL),
+    };
+    let template = SceneTemplate::load(&args.scene).map_err(CliError::input)?;
+    if template.world.target.is_none() {
+        return Err(CliError::input(anyhow::anyhow!(
+            "{}: the scene has no [target]: `dataset` needs a panel whose border it scans",
+            args.scene.display()
+        )));
+    }
+    let randomization = match &args.randomize {
+        Some(path) => {
+            let r = Randomization::load(path).map_err(CliError::input)?;
+            template.check_randomization(&r).map_err(CliError::input)?;
+            Some(r)
+        }
+        None => None,
+    };
+    let job = DatasetRun {
+        template: &template,
+        randomization: randomization.as_ref(),
+        seed: args.seed,
+        count: args.count,
+        photons: args.photons,
+        max_depth: args.max_depth,
+        shard,
+        out: &args.out,
+        resume: args.resume,
+    };
+    let execute = || {
+        let started = Instant::now();
+        let bar = progress::bar(
+            shard.indices(args.count).count() as u64,
+            "samples",
+            args.json,
+        );
+        let outcome = job.execute(|k| bar.inc(k)).map_err(|e| {
+            // Directory and input problems are the user's to fix; the rest is internal.
+            use crate::dataset::DatasetError as E;
+            match e {
+                E::Io { .. } | E::JsonWrite { .. } => CliError::internal(e),
+                _ => CliError::input(e),
+            }
+        })?;
+        bar.finish_and_clear();
+        let elapsed_s = started.elapsed().as_secs_f64();
+        if args.json {
+            let summary = serde_json::json!({
+                "out": args.out.display().to_string(),
+                "manifest": outcome.manifest.display().to_string(),
+                "shard": shard.to_string(),
+                "count": args.count,
+                "in_shard": outcome.in_shard,
+                "kept": outcome.kept,
+                "made": outcome.made,
+                "elapsed_s": elapsed_s,
+            });
+            println!("{summary:#}");
+        } else {
+            eprintln!(
+                "shard {shard}: made {} and kept {} of {} samples in {} ({:.1} s); manifest {}",
+                outcome.made,
+                outcome.kept,
+                outcome.in_shard,
+                args.out.display(),
+                elapsed_s,
+                outcome.manifest.display()
+            );
+        }
+        Ok(())
+    };
+    match args.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(CliError::internal)?
+            .install(execute),
+        None => execute(),
+    }
+}

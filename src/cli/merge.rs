@@ -1,0 +1,48 @@
+//! `glassscan merge DIR [DIR...] [--out DIR]`: joins the shard manifests of a dataset into one
+//! `manifest.jsonl` sorted by sample index (the work is `dataset::merge`).
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::CliError;
+use crate::dataset::merge::merge;
+use crate::dataset::DatasetError;
+
+/// Arguments of `glassscan merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Dataset directories holding shard manifests (manifest-shard-K-of-N.jsonl).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Where to write manifest.jsonl (default: the first DIR). Sample directories stay where
+    /// they are; lines of samples in other directories get their absolute path.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print a machine-readable summary on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `glassscan merge`.
+pub fn run(args: MergeArgs) -> Result<(), CliError> {
+    let out = args.out.clone().unwrap_or_else(|| args.dirs[0].clone());
+    let outcome = merge(&args.dirs, &out).map_err(|e| match e {
+        DatasetError::Io { .. } => CliError::internal(e),
+        _ => CliError::input(e),
+    })?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&outcome).map_err(CliError::internal)?
+        );
+    } else {
+        eprintln!(
+            "merged {} shard manifests into {} ({} samples)",
+            outcome.shards.len(),
+            outcome.manifest.display(),
+            outcome.samples
+        );
+    }
+    Ok(())
+}
