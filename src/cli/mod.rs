@@ -8,6 +8,8 @@ mod locate;
 mod manifest;
 pub mod progress;
 mod scan;
+mod study;
+mod sweep;
 
 use std::process::ExitCode;
 
@@ -31,6 +33,12 @@ pub enum Command {
     /// Scan the target's border, pick a Border Identifier Point per profile, register them to
     /// the model by ICP and report the errors against ground truth (the paper's pipeline).
     Locate(locate::LocateArgs),
+    /// Studies of the paper: `study scan-angle` runs the edge experiment (tape, cover, bare)
+    /// over scan angles and reports the BIP error against ground truth.
+    Study(study::StudyArgs),
+    /// BIP error, valid fraction, saturation and wrong-surface fraction over a grid of scan
+    /// angle × exposure × threshold × peak selection, with heat maps.
+    Sweep(sweep::SweepArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -73,6 +81,8 @@ pub fn run() -> ExitCode {
     let outcome = match cli.command {
         Command::Scan(args) => scan::run(args),
         Command::Locate(args) => locate::run(args),
+        Command::Study(args) => study::run(args),
+        Command::Sweep(args) => sweep::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
