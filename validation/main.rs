@@ -7,3 +7,4 @@ mod common;
 mod physics;
 mod scenes;
 mod stats;
+mod study;
