@@ -16,6 +16,7 @@ use crate::plot::error_bars::{ErrorBars, Series};
 use crate::plot::save;
 use crate::scene;
 use crate::sensor::SensorHead;
+use crate::study::as_typed;
 use crate::study::scan_angle::{
     run_scan_angle_study, ScanAngleConfig, ScanAngleStudy, Variant, VariantSetup,
 };
@@ -191,7 +192,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
         "positions": cfg.scan.poses,
         "photons": cfg.trace.photons,
         "seed": cfg.trace.seed,
-        "sweep_deg": cfg.sweep_rad.iter().map(|a| a.to_degrees()).collect::<Vec<_>>(),
+        "sweep_deg": cfg.sweep_rad.iter().map(|a| as_typed(a.to_degrees())).collect::<Vec<_>>(),
         "files": files,
         "elapsed_s": simulated_s,
     });

@@ -15,6 +15,7 @@ use crate::plot::heat_map::HeatMap;
 use crate::plot::save;
 use crate::scene;
 use crate::sensor::SensorHead;
+use crate::study::as_typed;
 use crate::study::grid::{threshold_name, SweepGrid};
 use crate::study::sweep::{run_sweep, CellResult};
 use crate::study::sweep_report::{cells_csv, cells_json};
@@ -203,13 +204,13 @@ fn write_outputs(
                     x_labels: grid
                         .angles_rad
                         .iter()
-                        .map(|a| format!("{}", a.to_degrees()))
+                        .map(|a| format!("{}", as_typed(a.to_degrees())))
                         .collect(),
                     y_desc: "exposure (ms)".into(),
                     y_labels: grid
                         .exposures_s
                         .iter()
-                        .map(|e| format!("{}", e * 1e3))
+                        .map(|e| format!("{}", as_typed(e * 1e3)))
                         .collect(),
                     values: (0..grid.exposures_s.len())
                         .map(|ei| (0..grid.angles_rad.len()).map(|ai| value(ai, ei)).collect())

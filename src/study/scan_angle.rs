@@ -20,6 +20,7 @@ use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
 
+use super::as_typed;
 use super::edge_frame::EdgeFrame;
 use super::tally::{PoseTally, RuleSummary};
 use crate::localise::metrics::Stats;
@@ -225,7 +226,7 @@ fn run_variant(
             let (out_mm, up_mm) = frame.coordinates_mm(&p_b);
             kept.push(EdgePoint {
                 variant: setup.variant,
-                scan_angle_deg: angle_rad.to_degrees(),
+                scan_angle_deg: as_typed(angle_rad.to_degrees()),
                 position: pose.index,
                 out_mm,
                 up_mm,
@@ -264,7 +265,7 @@ pub fn run_scan_angle_study(
                 .map(|s| run_variant(s, cfg, a, Some(&mut points), on_pose))
                 .collect();
             AngleResult {
-                scan_angle_deg: a.to_degrees(),
+                scan_angle_deg: as_typed(a.to_degrees()),
                 variants,
                 points,
             }
@@ -285,7 +286,7 @@ pub fn run_scan_angle_study(
                 let tallies =
                     reused.unwrap_or_else(|| run_variant(bare, cfg, a, None, on_pose).tallies);
                 SweepAngle {
-                    scan_angle_deg: a.to_degrees(),
+                    scan_angle_deg: as_typed(a.to_degrees()),
                     rules: RuleSummary::both(&tallies),
                     tallies,
                 }

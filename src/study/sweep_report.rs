@@ -2,10 +2,10 @@
 
 use serde_json::{json, Value};
 
-use super::csv_number;
 use super::grid::{threshold_name, SweepGrid};
 use super::sweep::CellResult;
 use super::tally::{by_rule_json, stats_json};
+use super::{as_typed, csv_number};
 
 /// One row per cell: the settings, BIP error by both rules, valid fractions, saturated-pixel
 /// and wrong-surface fractions.
@@ -21,8 +21,8 @@ pub fn cells_csv(grid: &SweepGrid, cells: &[CellResult]) -> String {
         let c = &r.cell;
         let mut row = vec![
             c.index.to_string(),
-            format!("{}", grid.angles_rad[c.angle].to_degrees()),
-            format!("{}", grid.exposures_s[c.exposure] * 1e3),
+            format!("{}", as_typed(grid.angles_rad[c.angle].to_degrees())),
+            format!("{}", as_typed(grid.exposures_s[c.exposure] * 1e3)),
             threshold_name(&grid.thresholds[c.threshold]),
             grid.peak_selects[c.peak_select].name().to_ascii_lowercase(),
         ];
@@ -55,8 +55,8 @@ pub fn cells_json(grid: &SweepGrid, cells: &[CellResult], run: Value) -> Value {
             let c = &r.cell;
             json!({
                 "cell": c.index,
-                "scan_angle_deg": grid.angles_rad[c.angle].to_degrees(),
-                "exposure_ms": grid.exposures_s[c.exposure] * 1e3,
+                "scan_angle_deg": as_typed(grid.angles_rad[c.angle].to_degrees()),
+                "exposure_ms": as_typed(grid.exposures_s[c.exposure] * 1e3),
                 "threshold": threshold_name(&grid.thresholds[c.threshold]),
                 "peak_select": grid.peak_selects[c.peak_select].name().to_ascii_lowercase(),
                 "bip_error_mm": stats_json(&r.rules[0].error_mm),
