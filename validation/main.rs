@@ -8,3 +8,4 @@ mod dataset;
 mod physics;
 mod scenes;
 mod stats;
+mod study;

@@ -1,6 +1,7 @@
 //! Checks of flags that several subcommands share, so they say the same thing everywhere.
 
 use super::CliError;
+use crate::sensor::profile::{PeakSelect, Threshold};
 
 /// The bad-input error for `--flag`: exit code 2, the flag named first.
 pub fn bad_flag(flag: &str, message: String) -> CliError {
@@ -9,13 +10,15 @@ pub fn bad_flag(flag: &str, message: String) -> CliError {
 
 /// `--scan-angle-deg`: in (0, 90] degrees; returns radians.
 pub fn scan_angle_rad(deg: f64) -> Result<f64, CliError> {
+    angle_rad("scan-angle-deg", deg)
+}
+
+/// A scan angle given by `--flag`: in (0, 90] degrees; returns radians.
+pub fn angle_rad(flag: &str, deg: f64) -> Result<f64, CliError> {
     if deg.is_finite() && deg > 0.0 && deg <= 90.0 {
         Ok(deg.to_radians())
     } else {
-        Err(bad_flag(
-            "scan-angle-deg",
-            format!("must be in (0, 90], got {deg}"),
-        ))
+        Err(bad_flag(flag, format!("must be in (0, 90], got {deg}")))
     }
 }
 
@@ -34,5 +37,109 @@ pub fn exposure_s(ms: f64) -> Result<f64, CliError> {
         Ok(ms * 1e-3)
     } else {
         Err(bad_flag("exposure-ms", format!("must be > 0, got {ms}")))
+    }
+}
+
+/// `--threshold`: `auto` or a DN value in [0, `max_dn`].
+pub fn threshold(t: &str, max_dn: u16) -> Result<Threshold, CliError> {
+    if t.eq_ignore_ascii_case("auto") {
+        return Ok(Threshold::Automatic);
+    }
+    match t.parse::<u16>() {
+        Ok(v) if v <= max_dn => Ok(Threshold::Fixed(v)),
+        _ => Err(bad_flag(
+            "threshold",
+            format!("must be `auto` or an integer in [0, {max_dn}] (2^adc_bits − 1), got {t:?}"),
+        )),
+    }
+}
+
+/// `--peak-select`: one of the SDK's modes.
+pub fn peak_select(m: &str) -> Result<PeakSelect, CliError> {
+    m.parse::<PeakSelect>()
+        .map_err(|e| bad_flag("peak-select", e.to_string()))
+}
+
+/// A comma-separated `--flag` list, each item checked by `item`; an empty list or item is an
+/// error.
+pub fn list<T>(
+    flag: &str,
+    s: &str,
+    item: impl Fn(&str) -> Result<T, CliError>,
+) -> Result<Vec<T>, CliError> {
+    let items: Vec<&str> = s.split(',').map(str::trim).collect();
+    if items.iter().any(|i| i.is_empty()) {
+        return Err(bad_flag(
+            flag,
+            format!("expects a comma-separated list without empty items, got {s:?}"),
+        ));
+    }
+    items.into_iter().map(item).collect()
+}
+
+/// A number given to `--flag`.
+pub fn number(flag: &str, s: &str) -> Result<f64, CliError> {
+    s.parse::<f64>()
+        .map_err(|_| bad_flag(flag, format!("expects numbers, got {s:?}")))
+}
+
+/// `--flag START:STOP:STEP` in degrees, both ends included, every angle in (0, 90]; returns
+/// radians. The angles are START + k·STEP, so they are exact multiples as typed.
+pub fn angle_range_rad(flag: &str, s: &str) -> Result<Vec<f64>, CliError> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let expected = || {
+        bad_flag(
+            flag,
+            format!("expects START:STOP:STEP in degrees with STEP > 0 and START ≤ STOP, got {s:?}"),
+        )
+    };
+    let [a, b, d] = parts.as_slice() else {
+        return Err(expected());
+    };
+    let (a, b, d) = (number(flag, a)?, number(flag, b)?, number(flag, d)?);
+    if !(d > 0.0 && a <= b && (b - a) / d < 10_000.0) {
+        return Err(expected());
+    }
+    let n = ((b - a) / d + 1e-9).floor() as usize;
+    (0..=n).map(|k| angle_rad(flag, a + k as f64 * d)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn message(e: CliError) -> String {
+        assert_eq!(e.code, 2);
+        format!("{:#}", e.error)
+    }
+
+    #[test]
+    fn lists_and_ranges() {
+        let v = list("exposure-ms", "0.1, 0.5", |s| {
+            exposure_s(number("exposure-ms", s)?)
+        })
+        .unwrap();
+        assert_eq!(v, vec![0.1e-3, 0.5e-3]);
+        assert!(
+            message(list("exposure-ms", "", |s| number("exposure-ms", s)).unwrap_err())
+                .starts_with("--exposure-ms ")
+        );
+        assert!(
+            message(list("angles-deg", "10,,40", |s| number("angles-deg", s)).unwrap_err())
+                .contains("empty")
+        );
+        let r = angle_range_rad("sweep-deg", "5:85:5").unwrap();
+        assert_eq!(r.len(), 17);
+        assert_eq!(r[1], 10f64.to_radians());
+        assert_eq!(r[16], 85f64.to_radians());
+        for bad in ["5:85", "85:5:5", "5:85:0", "0:85:5", "5:95:5", "a:b:c"] {
+            assert!(
+                message(angle_range_rad("sweep-deg", bad).unwrap_err()).starts_with("--sweep-deg "),
+                "{bad}"
+            );
+        }
+        assert!(message(peak_select("best").unwrap_err()).starts_with("--peak-select "));
+        assert_eq!(threshold("AUTO", 1023).unwrap(), Threshold::Automatic);
+        assert!(message(threshold("1024", 1023).unwrap_err()).starts_with("--threshold "));
     }
 }

@@ -14,6 +14,8 @@ pub mod progress;
 mod register;
 mod scan;
 mod score;
+mod study;
+mod sweep;
 
 use std::process::ExitCode;
 
@@ -50,6 +52,12 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Score your own Border Identifier Points (CSV) against a dataset's ground truth.
     Score(score::ScoreArgs),
+    /// Studies of the paper: `study scan-angle` runs the edge experiment (tape, cover, bare)
+    /// over scan angles and reports the BIP error against ground truth.
+    Study(study::StudyArgs),
+    /// BIP error, valid fraction, saturation and wrong-surface fraction over a grid of scan
+    /// angle × exposure × threshold × peak selection, with heat maps.
+    Sweep(sweep::SweepArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -97,6 +105,8 @@ pub fn run() -> ExitCode {
         Command::Dataset(args) => dataset::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Score(args) => score::run(args),
+        Command::Study(args) => study::run(args),
+        Command::Sweep(args) => sweep::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -14,7 +14,6 @@ use crate::scan::simulate::simulate_pose;
 use crate::scan::ScanConfig;
 use crate::scene;
 use crate::sensor::imager::SensorKind;
-use crate::sensor::profile::{PeakSelect, Threshold};
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
 
@@ -92,33 +91,14 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
         scan.poses = n;
     }
     if let Some(e) = args.exposure_ms {
-        if !(e.is_finite() && e > 0.0) {
-            return Err(bad("exposure-ms", format!("must be > 0, got {e}")));
-        }
-        world.sensor.imager.exposure_s = e * 1e-3;
+        world.sensor.imager.exposure_s = flags::exposure_s(e)?;
     }
     let max_dn = world.sensor.imager.max_dn();
     if let Some(t) = &args.threshold {
-        world.sensor.firmware.threshold = if t.eq_ignore_ascii_case("auto") {
-            Threshold::Automatic
-        } else {
-            match t.parse::<u16>() {
-                Ok(v) if v <= max_dn => Threshold::Fixed(v),
-                _ => {
-                    return Err(bad(
-                        "threshold",
-                        format!(
-                        "must be `auto` or an integer in [0, {max_dn}] (2^adc_bits − 1), got {t:?}"
-                    ),
-                    ))
-                }
-            }
-        };
+        world.sensor.firmware.threshold = flags::threshold(t, max_dn)?;
     }
     if let Some(m) = &args.peak_select {
-        world.sensor.firmware.peak_select = m
-            .parse::<PeakSelect>()
-            .map_err(|e| bad("peak-select", e.to_string()))?;
+        world.sensor.firmware.peak_select = flags::peak_select(m)?;
     }
     if let Some(k) = &args.sensor_kind {
         world.sensor.imager.kind = match k.to_ascii_lowercase().as_str() {

@@ -79,15 +79,29 @@ fn apply_speckle(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPose
     }
 }
 
-/// Simulates the sensor `head` at `pose`.
-pub fn simulate_pose(
+/// The light that reaches the image plane at `pose`: the traced irradiance per path class
+/// after speckle. It does not depend on the exposure, the threshold or the peak selection, so a
+/// study that sweeps those traces each pose once and senses it many times ([`sense_pose`]).
+pub fn trace_pose(
     scene: &TraceScene,
     head: &SensorHead,
     pose: &ScanPose,
     settings: &TraceSettings,
-) -> PoseResult {
+) -> (Irradiance, TraceStats) {
     let (mut irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
     apply_speckle(&mut irradiance, head, pose, settings.seed);
+    (irradiance, stats)
+}
+
+/// The image sensor and the firmware at `pose`, given the light of [`trace_pose`]: EMVA 1288
+/// exposure with the keyed noise of (seed, pose index), then the profile.
+pub fn sense_pose(
+    irradiance: Irradiance,
+    stats: TraceStats,
+    head: &SensorHead,
+    pose: &ScanPose,
+    settings: &TraceSettings,
+) -> PoseResult {
     let cfg = &head.config;
     let exposure = cfg.imager.expose_noisy(
         &irradiance.total,
@@ -109,4 +123,15 @@ pub fn simulate_pose(
         profile,
         stats,
     }
+}
+
+/// Simulates the sensor `head` at `pose`: [`trace_pose`] then [`sense_pose`].
+pub fn simulate_pose(
+    scene: &TraceScene,
+    head: &SensorHead,
+    pose: &ScanPose,
+    settings: &TraceSettings,
+) -> PoseResult {
+    let (irradiance, stats) = trace_pose(scene, head, pose, settings);
+    sense_pose(irradiance, stats, head, pose, settings)
 }
