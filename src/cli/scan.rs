@@ -7,7 +7,7 @@ use anyhow::Context;
 use clap::Args;
 
 use super::manifest::{FileEntry, Manifest, PoseEntry, Summary};
-use super::{flags, CliError};
+use super::{flags, progress, CliError};
 use crate::dataset::{exr, json, output_dir, png16, profile_csv};
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::simulate_pose;
@@ -170,6 +170,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
     let adc_bits = world.sensor.imager.adc_bits;
 
     let mut entries = Vec::with_capacity(poses.len());
+    let bar = progress::bar(poses.len() as u64, "poses", cfg.json);
     for pose in &poses {
         let result = simulate_pose(&trace_scene, &head, pose, &cfg.settings);
         let stem = format!("pose_{:03}", pose.index);
@@ -195,19 +196,23 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
             ],
         );
         if !cfg.json {
-            eprintln!(
-                "pose {}/{}: {} of {} profile points valid, p_e = ({:.2}, {:.2}, {:.2}) mm",
-                pose.index + 1,
-                poses.len(),
-                entry.valid_points,
-                result.profile.points.len(),
-                entry.edge_point_mm[0],
-                entry.edge_point_mm[1],
-                entry.edge_point_mm[2],
-            );
+            bar.suspend(|| {
+                eprintln!(
+                    "pose {}/{}: {} of {} profile points valid, p_e = ({:.2}, {:.2}, {:.2}) mm",
+                    pose.index + 1,
+                    poses.len(),
+                    entry.valid_points,
+                    result.profile.points.len(),
+                    entry.edge_point_mm[0],
+                    entry.edge_point_mm[1],
+                    entry.edge_point_mm[2],
+                )
+            });
         }
         entries.push(entry);
+        bar.inc(1);
     }
+    bar.finish_and_clear();
 
     let manifest = Manifest::new(world, &cfg.scan, &cfg.settings, entries, started.elapsed());
     let manifest_path = cfg.out.join("manifest.json");
