@@ -12,7 +12,6 @@ use serde_json::{json, Value};
 use super::{flags, progress, CliError};
 use crate::dataset::{atomic::write_atomic, json as json_file, output_dir};
 use crate::plot::edge_scatter::EdgeScatter;
-use crate::plot::error_bars::{ErrorBars, Series};
 use crate::plot::save;
 use crate::scene;
 use crate::sensor::SensorHead;
@@ -20,7 +19,9 @@ use crate::study::as_typed;
 use crate::study::scan_angle::{
     run_scan_angle_study, ScanAngleConfig, ScanAngleStudy, Variant, VariantSetup,
 };
-use crate::study::scan_angle_report::{points_csv, summary_csv, summary_json, sweep_csv};
+use crate::study::scan_angle_report::{
+    bip_curve_figure, points_csv, summary_csv, summary_json, sweep_csv,
+};
 use crate::transport::{TraceScene, TraceSettings};
 
 /// Arguments of `glassscan study`.
@@ -263,25 +264,7 @@ fn write_outputs(out: &Path, study: &ScanAngleStudy) -> anyhow::Result<Vec<Strin
         files.extend([format!("{stem}.png"), format!("{stem}.svg")]);
     }
     if !study.sweep.is_empty() {
-        let series = (0..2)
-            .map(|k| Series {
-                name: format!("{} rule", study.sweep[0].rules[k].rule.name()),
-                points: study
-                    .sweep
-                    .iter()
-                    .map(|a| {
-                        let s = &a.rules[k].error_mm;
-                        (a.scan_angle_deg, s.mean, s.std)
-                    })
-                    .collect(),
-            })
-            .collect();
-        let fig = ErrorBars {
-            title: "BIP error |BIP − p_e| against scan angle (bare pane, mean ± std)".into(),
-            x_desc: "scan angle (deg above the surface)".into(),
-            y_desc: "BIP error (mm)".into(),
-            series,
-        };
+        let fig = bip_curve_figure(&study.sweep);
         save(&fig, out, "bip_error_vs_angle")?;
         files.extend([
             "bip_error_vs_angle.png".into(),

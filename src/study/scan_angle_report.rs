@@ -4,8 +4,9 @@
 use serde_json::{json, Value};
 
 use super::csv_number;
-use super::scan_angle::{AngleResult, ScanAngleStudy};
+use super::scan_angle::{AngleResult, ScanAngleStudy, SweepAngle};
 use super::tally::{by_rule_json, stats_json};
+use crate::plot::error_bars::{ErrorBars, Series};
 
 /// `variant,scan_angle_deg,position,out_mm,up_mm,intensity,label`: every valid point of every
 /// variant at one angle; `label` is the path class (`sensor::path_class`), empty if none.
@@ -89,6 +90,28 @@ pub fn sweep_csv(study: &ScanAngleStudy) -> String {
         }
     }
     s
+}
+
+/// The BIP-error curve: mean ± std of |BIP − p_e| against the scan angle, one series per rule.
+pub fn bip_curve_figure(sweep: &[SweepAngle]) -> ErrorBars {
+    let series = (0..2)
+        .map(|k| Series {
+            name: format!("{} rule", super::tally::RULES[k].name()),
+            points: sweep
+                .iter()
+                .map(|a| {
+                    let s = &a.rules[k].error_mm;
+                    (a.scan_angle_deg, s.mean, s.std)
+                })
+                .collect(),
+        })
+        .collect();
+    ErrorBars {
+        title: "BIP error |BIP − p_e| against scan angle (bare pane, mean ± std)".into(),
+        x_desc: "scan angle (deg above the surface)".into(),
+        y_desc: "BIP error (mm, log scale)".into(),
+        series,
+    }
 }
 
 /// The JSON summary: `angles` (per angle: `scan_angle_deg`, `bip_error_mm` and
