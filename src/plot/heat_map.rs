@@ -48,9 +48,9 @@ pub fn ramp(t: f64) -> RGBColor {
 
 impl Figure for HeatMap {
     fn size(&self) -> (u32, u32) {
-        let w = 260 + 80 * self.x_labels.len().max(1) as u32;
+        let w = 360 + 80 * self.x_labels.len().max(1) as u32;
         let h = 200 + 60 * self.y_labels.len().max(1) as u32;
-        (w.max(600), h.max(360))
+        (w.max(720), h.max(360))
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
@@ -174,6 +174,7 @@ impl Figure for HeatMap {
                 .disable_mesh()
                 .disable_x_axis()
                 .y_desc(self.value_desc.as_str())
+                .y_label_formatter(&|v| tick_label(*v))
                 .label_style((FONT, 12))
                 .axis_desc_style((FONT, 13))
                 .draw()?;
@@ -184,6 +185,7 @@ impl Figure for HeatMap {
                 .disable_mesh()
                 .disable_x_axis()
                 .y_desc(self.value_desc.as_str())
+                .y_label_formatter(&|v| tick_label(*v))
                 .label_style((FONT, 12))
                 .axis_desc_style((FONT, 13))
                 .draw()?;
@@ -193,8 +195,31 @@ impl Figure for HeatMap {
     }
 }
 
+/// A colour-bar tick: three significant digits, no float noise (0.7, not 0.7000000000000001).
+fn tick_label(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn tick_labels_have_no_float_noise() {
+        assert_eq!(super::tick_label(0.7000000000000001), "0.7");
+        assert_eq!(super::tick_label(0.30000000000000004), "0.3");
+        assert_eq!(super::tick_label(1.36), "1.36");
+        assert_eq!(super::tick_label(149.18), "149");
+        assert_eq!(super::tick_label(0.0912), "0.0912");
+    }
+
     use super::*;
 
     #[test]
