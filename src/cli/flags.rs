@@ -1,6 +1,30 @@
 //! Checks of flags that several subcommands share, so they say the same thing everywhere.
 
+use std::path::PathBuf;
+
 use super::CliError;
+
+/// `--photons` and `--seed`, shared by the commands that trace light at scan poses.
+#[derive(Debug, clap::Args)]
+pub struct LightArgs {
+    /// Laser photons traced per pose (≥ 1000).
+    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    pub photons: u64,
+    /// Master seed of all random numbers (light, sensor noise, error draws).
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// An optional output directory: `--out DIR` and `--force`.
+#[derive(Debug, clap::Args)]
+pub struct OutArgs {
+    /// Write the run's files into DIR (created if missing; must be empty unless --force).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write into a non-empty output directory (files are replaced one by one, atomically).
+    #[arg(long)]
+    pub force: bool,
+}
 use crate::sensor::profile::{PeakSelect, Threshold};
 
 /// The bad-input error for `--flag`: exit code 2, the flag named first.

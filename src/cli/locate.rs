@@ -35,12 +35,8 @@ pub struct LocateArgs {
     /// Exposure time in milliseconds (> 0); overrides [sensor].
     #[arg(long, value_name = "MS")]
     pub exposure_ms: Option<f64>,
-    /// Master seed (light transport, sensor noise, error draws).
-    #[arg(long, value_name = "S", default_value_t = 1)]
-    pub seed: u64,
-    /// Laser photons per pose (≥ 1000).
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
-    pub photons: u64,
+    #[command(flatten)]
+    pub light: flags::LightArgs,
     /// Robot repeatability, hand-eye and sensor linearity errors: `off` (the sensor alone) or
     /// `default` (PARAMETERS.md §6).
     #[arg(long, value_name = "off|default", default_value = "off")]
@@ -57,12 +53,8 @@ pub struct LocateArgs {
     /// operator would.
     #[arg(long, value_name = "MS", requires = "opaque_copy")]
     pub opaque_exposure_ms: Option<f64>,
-    /// Write profiles, BIPs (CSV), poses (JSON), PLY clouds and the summary into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Write into a non-empty --out directory (files are replaced one by one, atomically).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub output: flags::OutArgs,
     /// Print a machine-readable summary on stdout.
     #[arg(long)]
     pub json: bool,
@@ -123,7 +115,7 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
     if let Some(a) = args.scan_angle_deg {
         scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
-    flags::photons(args.photons)?;
+    flags::photons(args.light.photons)?;
     if let Some(ms) = args.exposure_ms {
         world.sensor.imager.exposure_s = flags::exposure_s(ms)?;
     }
@@ -155,8 +147,9 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
             Some(w)
         }
     };
-    if let Some(dir) = &args.out {
-        crate::dataset::output_dir::prepare_output_dir(dir, args.force).map_err(CliError::input)?;
+    if let Some(dir) = &args.output.out {
+        crate::dataset::output_dir::prepare_output_dir(dir, args.output.force)
+            .map_err(CliError::input)?;
     }
     Ok(Resolved {
         world,
@@ -164,9 +157,9 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
         scan,
         settings: LocateSettings { rule, errors },
         trace: TraceSettings {
-            photons: args.photons,
+            photons: args.light.photons,
             max_depth: 64,
-            seed: args.seed,
+            seed: args.light.seed,
         },
     })
 }
@@ -231,8 +224,8 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         "scene": args.scene.display().to_string(),
         "poses": r.scan.poses,
         "scan_angle_deg": r.scan.scan_angle_rad.to_degrees(),
-        "seed": args.seed,
-        "photons": args.photons,
+        "seed": args.light.seed,
+        "photons": args.light.photons,
         "opaque_copy": opaque.as_ref().map(|o| {
             let mut v = summary_json(o);
             let ms = r.opaque.as_ref().expect("ran").sensor.imager.exposure_s * 1e3;
@@ -245,7 +238,7 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         .as_object_mut()
         .expect("an object")
         .extend(extra.as_object().expect("an object").clone());
-    if let Some(dir) = &args.out {
+    if let Some(dir) = &args.output.out {
         locate_out::write_run(dir, &r.world, &glass, &summary).map_err(CliError::internal)?;
         if let Some(o) = &opaque {
             let sub = dir.join("opaque_copy");

@@ -7,7 +7,6 @@ use clap::Args;
 
 use super::CliError;
 use crate::dataset::merge::merge;
-use crate::dataset::DatasetError;
 
 /// Arguments of `glassscan merge`.
 #[derive(Debug, Args)]
@@ -27,10 +26,7 @@ pub struct MergeArgs {
 /// Runs `glassscan merge`.
 pub fn run(args: MergeArgs) -> Result<(), CliError> {
     let out = args.out.clone().unwrap_or_else(|| args.dirs[0].clone());
-    let outcome = merge(&args.dirs, &out).map_err(|e| match e {
-        DatasetError::Io { .. } => CliError::internal(e),
-        _ => CliError::input(e),
-    })?;
+    let outcome = merge(&args.dirs, &out).map_err(CliError::from_dataset)?;
     if args.json {
         println!(
             "{}",

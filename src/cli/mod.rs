@@ -78,6 +78,15 @@ impl CliError {
         }
     }
 
+    /// A dataset error: the file system refusing (exit 1), or a file that is not what it
+    /// should be (exit 2).
+    pub fn from_dataset(error: crate::dataset::DatasetError) -> Self {
+        match error {
+            crate::dataset::DatasetError::Io { .. } => CliError::internal(error),
+            _ => CliError::input(error),
+        }
+    }
+
     /// An internal or I/O error (exit code 1).
     pub fn internal(error: impl Into<anyhow::Error>) -> Self {
         CliError {

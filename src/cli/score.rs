@@ -7,7 +7,6 @@ use clap::Args;
 
 use super::CliError;
 use crate::dataset::score::score;
-use crate::dataset::DatasetError;
 
 /// Arguments of `glassscan score`.
 #[derive(Debug, Args)]
@@ -23,10 +22,7 @@ pub struct ScoreArgs {
 
 /// Runs `glassscan score`.
 pub fn run(args: ScoreArgs) -> Result<(), CliError> {
-    let report = score(&args.dataset, &args.bips).map_err(|e| match e {
-        DatasetError::Io { .. } => CliError::internal(e),
-        _ => CliError::input(e),
-    })?;
+    let report = score(&args.dataset, &args.bips).map_err(CliError::from_dataset)?;
     if args.json {
         println!(
             "{}",

@@ -61,19 +61,10 @@ pub struct ScanAngleArgs {
     /// Skip the BIP-error curve.
     #[arg(long)]
     pub no_sweep: bool,
-    /// Laser photons per pose (≥ 1000).
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
-    pub photons: u64,
-    /// Master seed.
-    #[arg(long, value_name = "S", default_value_t = 1)]
-    pub seed: u64,
-    /// Write the tables, the summary and the plots into DIR (created if missing; must be
-    /// empty unless --force).
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Write into a non-empty output directory (files are replaced one by one, atomically).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub light: flags::LightArgs,
+    #[command(flatten)]
+    pub output: flags::OutArgs,
     /// Print the summary as JSON on stdout (and no progress).
     #[arg(long)]
     pub json: bool,
@@ -133,7 +124,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     if args.positions == 0 {
         return Err(flags::bad_flag("positions", "must be ≥ 1, got 0".into()));
     }
-    flags::photons(args.photons)?;
+    flags::photons(args.light.photons)?;
 
     let (bare, bare_world) = setup(&args.scene, Variant::Bare)?;
     let mut setups = Vec::new();
@@ -155,8 +146,8 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     }
     setups.push(bare);
     scenes.insert("bare".into(), json!(args.scene.display().to_string()));
-    if let Some(out) = &args.out {
-        output_dir::prepare_output_dir(out, args.force).map_err(CliError::input)?;
+    if let Some(out) = &args.output.out {
+        output_dir::prepare_output_dir(out, args.output.force).map_err(CliError::input)?;
     }
     if !args.json {
         for n in &notes {
@@ -172,9 +163,9 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
             ..bare_world.scan
         },
         trace: TraceSettings {
-            photons: args.photons,
+            photons: args.light.photons,
             max_depth: 64,
-            seed: args.seed,
+            seed: args.light.seed,
         },
     };
     let bar = progress::bar(cfg.simulations(setups.len()) as u64, "poses", args.json);
@@ -183,7 +174,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     let simulated_s = started.elapsed().as_secs_f64();
 
     let mut files = Vec::new();
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.output.out {
         files = write_outputs(out, &study).map_err(CliError::internal)?;
     }
     let run = json!({
@@ -198,7 +189,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
         "elapsed_s": simulated_s,
     });
     let summary = summary_json(&study, run);
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.output.out {
         json_file::write_json_pretty(&out.join("summary.json"), &summary)
             .map_err(CliError::internal)?;
     }

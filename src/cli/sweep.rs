@@ -44,19 +44,10 @@ pub struct SweepArgs {
     /// Scan poses along the border per angle (≥ 1); overrides [scan].
     #[arg(long, value_name = "N")]
     pub poses: Option<usize>,
-    /// Laser photons per pose (≥ 1000).
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
-    pub photons: u64,
-    /// Master seed.
-    #[arg(long, value_name = "S", default_value_t = 1)]
-    pub seed: u64,
-    /// Write the table (CSV, JSON) and the heat maps into DIR (created if missing; must be
-    /// empty unless --force).
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Write into a non-empty output directory (files are replaced one by one, atomically).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub light: flags::LightArgs,
+    #[command(flatten)]
+    pub output: flags::OutArgs,
     /// Print the table as JSON on stdout (and no progress).
     #[arg(long)]
     pub json: bool,
@@ -78,7 +69,7 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
     if args.poses == Some(0) {
         return Err(flags::bad_flag("poses", "must be ≥ 1, got 0".into()));
     }
-    flags::photons(args.photons)?;
+    flags::photons(args.light.photons)?;
 
     let world = scene::load(&args.scene).map_err(CliError::input)?;
     let max_dn = world.sensor.imager.max_dn();
@@ -102,8 +93,8 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
         .with_context(|| format!("{}: [sensor]", world.source.display()))
         .map_err(CliError::input)?;
     let trace_scene = TraceScene::new(&world).map_err(CliError::input)?;
-    if let Some(out) = &args.out {
-        output_dir::prepare_output_dir(out, args.force).map_err(CliError::input)?;
+    if let Some(out) = &args.output.out {
+        output_dir::prepare_output_dir(out, args.output.force).map_err(CliError::input)?;
     }
     let border_b = target
         .border
@@ -113,9 +104,9 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
         scan.poses = n;
     }
     let trace = TraceSettings {
-        photons: args.photons,
+        photons: args.light.photons,
         max_depth: 64,
-        seed: args.seed,
+        seed: args.light.seed,
     };
 
     let bar = progress::bar(
@@ -137,7 +128,7 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
     let elapsed_s = started.elapsed().as_secs_f64();
 
     let mut files = Vec::new();
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.output.out {
         files = write_outputs(out, &grid, &cells).map_err(CliError::internal)?;
     }
     let run = json!({
@@ -150,7 +141,7 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
         "elapsed_s": elapsed_s,
     });
     let table = cells_json(&grid, &cells, run);
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.output.out {
         json_file::write_json_pretty(&out.join("cells.json"), &table)
             .map_err(CliError::internal)?;
     }
