@@ -81,8 +81,14 @@ impl CliError {
     /// A dataset error: the file system refusing (exit 1), or a file that is not what it
     /// should be (exit 2).
     pub fn from_dataset(error: crate::dataset::DatasetError) -> Self {
-        match error {
-            crate::dataset::DatasetError::Io { .. } => CliError::internal(error),
+        match &error {
+            // A path the user named that does not exist is bad input; any other refusal of
+            // the file system is not the input's fault.
+            crate::dataset::DatasetError::Io { source, .. }
+                if source.kind() != std::io::ErrorKind::NotFound =>
+            {
+                CliError::internal(error)
+            }
             _ => CliError::input(error),
         }
     }
@@ -120,8 +126,42 @@ pub fn run() -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {:#}", e.error);
+            eprintln!("error: {}", error_chain(&e.error));
             ExitCode::from(e.code)
         }
+    }
+}
+
+/// The error and its causes, joined by ": ", leaving out a cause whose text the message already
+/// holds (error types that print their source, like `thiserror`'s `{source}`, would otherwise
+/// say it twice).
+fn error_chain(error: &anyhow::Error) -> String {
+    let mut message = String::new();
+    for cause in error.chain() {
+        let text = cause.to_string();
+        if message.is_empty() {
+            message = text;
+        } else if !message.contains(&text) {
+            message = format!("{message}: {text}");
+        }
+    }
+    message
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn error_chain_says_each_cause_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file");
+        let e = anyhow::Error::new(crate::dataset::DatasetError::Io {
+            path: "x.csv".into(),
+            action: "read",
+            source: io,
+        })
+        .context("loading the BIPs");
+        assert_eq!(
+            super::error_chain(&e),
+            "loading the BIPs: could not read x.csv: No such file"
+        );
     }
 }
