@@ -74,10 +74,7 @@ pub fn run(args: CheckArgs) -> Result<(), CliError> {
             "baseline_updated": args.update_baseline,
             "seconds": started.elapsed().as_secs_f64(),
         });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(CliError::internal)?
-        );
+        super::print_json(&v)?;
     } else {
         print!("{}", table(&rows, false));
         eprintln!(

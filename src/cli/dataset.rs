@@ -41,12 +41,8 @@ pub struct DatasetArgs {
     /// Laser photons traced per sample (≥ 1000).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
-    /// Longest photon path, in surface interactions including specular ones (≥ 1).
-    #[arg(long, value_name = "D", default_value_t = 64)]
-    pub max_depth: u32,
-    /// Worker threads (default: all cores). Results do not depend on it.
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    #[command(flatten)]
+    pub transport: flags::TransportArgs,
     /// Print a machine-readable summary on stdout instead of progress on stderr.
     #[arg(long)]
     pub json: bool,
@@ -59,12 +55,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
         return Err(bad("count", "must be ≥ 1, got 0".into()));
     }
     flags::photons(args.photons)?;
-    if args.max_depth == 0 {
-        return Err(bad("max-depth", "must be ≥ 1, got 0".into()));
-    }
-    if args.threads == Some(0) {
-        return Err(bad("threads", "must be ≥ 1, got 0".into()));
-    }
+    args.transport.check()?;
     let shard = match &args.shard {
         Some(s) => Shard::parse_flag(s).map_err(CliError::input)?,
         None => Shard::from_env(|name| std::env::var(name).ok())
@@ -92,7 +83,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
         seed: args.seed,
         count: args.count,
         photons: args.photons,
-        max_depth: args.max_depth,
+        max_depth: args.transport.max_depth,
         shard,
         out: &args.out,
         resume: args.resume,
@@ -104,14 +95,9 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
             "samples",
             args.json,
         );
-        let outcome = job.execute(|k| bar.inc(k)).map_err(|e| {
-            // Directory and input problems are the user's to fix; the rest is internal.
-            use crate::dataset::DatasetError as E;
-            match e {
-                E::Io { .. } | E::JsonWrite { .. } => CliError::internal(e),
-                _ => CliError::input(e),
-            }
-        })?;
+        let outcome = job
+            .execute(|k| bar.inc(k))
+            .map_err(CliError::from_dataset)?;
         bar.finish_and_clear();
         let elapsed_s = started.elapsed().as_secs_f64();
         if args.json {
@@ -125,7 +111,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
                 "made": outcome.made,
                 "elapsed_s": elapsed_s,
             });
-            println!("{summary:#}");
+            super::print_json(&summary)?;
         } else {
             eprintln!(
                 "shard {shard}: made {} and kept {} of {} samples in {} ({:.1} s); manifest {}",
@@ -139,12 +125,5 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
         }
         Ok(())
     };
-    match args.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(CliError::internal)?
-            .install(execute),
-        None => execute(),
-    }
+    flags::with_threads(args.transport.threads, execute)
 }

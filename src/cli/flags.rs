@@ -15,6 +15,46 @@ pub struct LightArgs {
     pub seed: u64,
 }
 
+/// `--max-depth` and `--threads`, for the commands that expose the transport's knobs.
+#[derive(Debug, clap::Args)]
+pub struct TransportArgs {
+    /// Longest photon path, in surface interactions including specular ones (≥ 1).
+    #[arg(long, value_name = "D", default_value_t = 64)]
+    pub max_depth: u32,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+}
+
+impl TransportArgs {
+    /// Both must be ≥ 1.
+    pub fn check(&self) -> Result<(), CliError> {
+        if self.max_depth == 0 {
+            return Err(bad_flag("max-depth", "must be ≥ 1, got 0".into()));
+        }
+        if self.threads == Some(0) {
+            return Err(bad_flag("threads", "must be ≥ 1, got 0".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Runs `work` on a pool of `threads` workers, or on rayon's global pool (all cores) for
+/// `None`.
+pub fn with_threads<T: Send>(
+    threads: Option<usize>,
+    work: impl FnOnce() -> Result<T, CliError> + Send,
+) -> Result<T, CliError> {
+    match threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(CliError::internal)?
+            .install(work),
+        None => work(),
+    }
+}
+
 /// An optional output directory: `--out DIR` and `--force`.
 #[derive(Debug, clap::Args)]
 pub struct OutArgs {

@@ -173,12 +173,8 @@ fn run_on(world: &World, r: &Resolved, quiet: bool, what: &str) -> Result<Locate
     Ok(report)
 }
 
-fn stats_json(s: &Stats) -> Value {
-    json!({"mean": s.mean, "std": s.std, "max": s.max, "n": s.n})
-}
-
-/// The `--json` summary of one run (and the `summary.json` of `--out`).
-pub(super) fn summary_json(report: &LocateReport) -> Value {
+/// The `--json` summary of one run on `world` (and the `summary.json` of `--out`).
+fn summary_json(report: &LocateReport, world: &World) -> Value {
     let (converged, degenerate, iterations, estimate, weak) = match &report.registration {
         Ok(r) => (
             r.converged,
@@ -191,15 +187,16 @@ pub(super) fn summary_json(report: &LocateReport) -> Value {
     };
     let errors = report.settings.errors;
     json!({
+        "exposure_ms": world.sensor.imager.exposure_s * 1e3,
         "bip_rule": report.settings.rule.name(),
         "errors": if errors.is_on() { "default" } else { "off" },
         "error_sources_on": errors.sources_on(),
         "error_model": errors,
         "bips": report.poses.iter().filter(|p| p.bip.is_some()).count(),
-        "bip_error_mm": stats_json(&report.bip_error_mm),
-        "paper_rule_bip_error_mm": stats_json(&report.paper_bip_error_mm),
+        "bip_error_mm": report.bip_error_mm,
+        "paper_rule_bip_error_mm": report.paper_bip_error_mm,
         "pose_error": report.pose_error.map(|(t, r)| json!({"translation_mm": t, "rotation_deg": r})),
-        "task_error_mm": report.task_error_mm.as_ref().map(stats_json),
+        "task_error_mm": report.task_error_mm,
         "contour_error_mm": report.contour_error_mm.as_ref().map(|s| json!({"mean": s.mean, "max": s.max})),
         "converged": converged,
         "degenerate": degenerate,
@@ -219,25 +216,21 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         Some(world) => Some(run_on(world, &r, args.json, "poses (opaque copy)")?),
         None => None,
     };
-    let mut summary = summary_json(&glass);
-    let extra = json!({
-        "scene": args.scene.display().to_string(),
-        "poses": r.scan.poses,
-        "scan_angle_deg": r.scan.scan_angle_rad.to_degrees(),
-        "seed": args.light.seed,
-        "photons": args.light.photons,
-        "opaque_copy": opaque.as_ref().map(|o| {
-            let mut v = summary_json(o);
-            let ms = r.opaque.as_ref().expect("ran").sensor.imager.exposure_s * 1e3;
-            v["exposure_ms"] = json!(ms);
-            v
+    let opaque_summary = opaque
+        .as_ref()
+        .zip(r.opaque.as_ref())
+        .map(|(o, w)| summary_json(o, w));
+    let summary = crate::study::with_run(
+        summary_json(&glass, &r.world),
+        json!({
+            "scene": args.scene.display().to_string(),
+            "poses": r.scan.poses,
+            "scan_angle_deg": r.scan.scan_angle_rad.to_degrees(),
+            "seed": args.light.seed,
+            "photons": args.light.photons,
+            "opaque_copy": opaque_summary,
         }),
-        "exposure_ms": r.world.sensor.imager.exposure_s * 1e3,
-    });
-    summary
-        .as_object_mut()
-        .expect("an object")
-        .extend(extra.as_object().expect("an object").clone());
+    );
     if let Some(dir) = &args.output.out {
         locate_out::write_run(dir, &r.world, &glass, &summary).map_err(CliError::internal)?;
         if let Some(o) = &opaque {
@@ -250,10 +243,7 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         }
     }
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&summary).map_err(CliError::internal)?
-        );
+        super::print_json(&summary)?;
     } else {
         print_tables(&glass, opaque.as_ref());
     }

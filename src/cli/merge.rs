@@ -28,10 +28,7 @@ pub fn run(args: MergeArgs) -> Result<(), CliError> {
     let out = args.out.clone().unwrap_or_else(|| args.dirs[0].clone());
     let outcome = merge(&args.dirs, &out).map_err(CliError::from_dataset)?;
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&outcome).map_err(CliError::internal)?
-        );
+        super::print_json(&outcome)?;
     } else {
         eprintln!(
             "merged {} shard manifests into {} ({} samples)",

@@ -78,17 +78,17 @@ impl CliError {
         }
     }
 
-    /// A dataset error: the file system refusing (exit 1), or a file that is not what it
-    /// should be (exit 2).
+    /// A dataset error: the file system refusing or a value that does not serialise (exit 1),
+    /// or an input that is missing or not what it should be (exit 2).
     pub fn from_dataset(error: crate::dataset::DatasetError) -> Self {
+        use crate::dataset::DatasetError as E;
         match &error {
             // A path the user named that does not exist is bad input; any other refusal of
             // the file system is not the input's fault.
-            crate::dataset::DatasetError::Io { source, .. }
-                if source.kind() != std::io::ErrorKind::NotFound =>
-            {
+            E::Io { source, .. } if source.kind() != std::io::ErrorKind::NotFound => {
                 CliError::internal(error)
             }
+            E::JsonWrite { .. } => CliError::internal(error),
             _ => CliError::input(error),
         }
     }
@@ -100,6 +100,15 @@ impl CliError {
             error: error.into(),
         }
     }
+}
+
+/// Prints `value` on stdout as pretty JSON (the `--json` output of every command).
+fn print_json(value: &impl serde::Serialize) -> Result<(), CliError> {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(value).map_err(CliError::internal)?
+    );
+    Ok(())
 }
 
 /// Parses the process arguments, runs the command and maps the outcome to an exit code.

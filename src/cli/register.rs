@@ -72,10 +72,7 @@ pub fn run(args: RegisterArgs) -> Result<(), CliError> {
         "difference_from_scene_pose": {"translation_mm": dt, "rotation_deg": dr},
     });
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&result).map_err(CliError::internal)?
-        );
+        super::print_json(&result)?;
     } else {
         let e = PoseMmDeg::from(&reg.pose);
         eprintln!(

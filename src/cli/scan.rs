@@ -52,12 +52,8 @@ pub struct ScanArgs {
     /// Laser photons traced per pose (≥ 1000).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
-    /// Longest photon path, in surface interactions including specular ones (≥ 1).
-    #[arg(long, value_name = "D", default_value_t = 64)]
-    pub max_depth: u32,
-    /// Worker threads (default: all cores). Results do not depend on it.
-    #[arg(long, value_name = "T")]
-    pub threads: Option<usize>,
+    #[command(flatten)]
+    pub transport: flags::TransportArgs,
     /// Write into a non-empty output directory (files are replaced one by one, atomically).
     #[arg(long)]
     pub force: bool,
@@ -113,12 +109,7 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
         };
     }
     flags::photons(args.photons)?;
-    if args.max_depth == 0 {
-        return Err(bad("max-depth", "must be ≥ 1, got 0".into()));
-    }
-    if args.threads == Some(0) {
-        return Err(bad("threads", "must be ≥ 1, got 0".into()));
-    }
+    args.transport.check()?;
     if world.target.is_none() {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `scan` needs a panel whose border it scans",
@@ -130,11 +121,11 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
         scan,
         settings: TraceSettings {
             photons: args.photons,
-            max_depth: args.max_depth,
+            max_depth: args.transport.max_depth,
             seed: args.seed,
         },
         out: args.out,
-        threads: args.threads,
+        threads: args.transport.threads,
         json: args.json,
         force: args.force,
     })
@@ -143,14 +134,7 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
 /// Runs `glassscan scan`.
 pub fn run(args: ScanArgs) -> Result<(), CliError> {
     let cfg = resolve(args)?;
-    match cfg.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(CliError::internal)?
-            .install(|| execute(&cfg)),
-        None => execute(&cfg),
-    }
+    flags::with_threads(cfg.threads, || execute(&cfg))
 }
 
 fn execute(cfg: &RunConfig) -> Result<(), CliError> {
@@ -219,10 +203,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
     json::write_json_pretty(&manifest_path, &manifest).map_err(CliError::internal)?;
     if cfg.json {
         let summary = Summary::new(&manifest, &cfg.out, &manifest_path);
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&summary).map_err(CliError::internal)?
-        );
+        super::print_json(&summary)?;
     } else {
         eprintln!(
             "wrote {} poses to {} in {:.2} s",

@@ -24,10 +24,7 @@ pub struct ScoreArgs {
 pub fn run(args: ScoreArgs) -> Result<(), CliError> {
     let report = score(&args.dataset, &args.bips).map_err(CliError::from_dataset)?;
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&report).map_err(CliError::internal)?
-        );
+        super::print_json(&report)?;
         return Ok(());
     }
     let mm = |v: Option<f64>| v.map_or("–".to_owned(), |v| format!("{v:.3} mm"));

@@ -194,10 +194,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
             .map_err(CliError::internal)?;
     }
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&summary).map_err(CliError::internal)?
-        );
+        super::print_json(&summary)?;
     } else {
         print_table(&study);
         eprintln!(

@@ -146,10 +146,7 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
             .map_err(CliError::internal)?;
     }
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&table).map_err(CliError::internal)?
-        );
+        super::print_json(&table)?;
     } else {
         eprint!("{}", cells_csv(&grid, &cells));
         eprintln!(

@@ -294,7 +294,7 @@ pub enum DatasetError {
         /// The missing column.
         column: &'static str,
         /// All required columns, comma-separated.
-        required: &'static str,
+        required: String,
         /// The header line.
         found: String,
     },

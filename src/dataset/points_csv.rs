@@ -39,57 +39,88 @@ pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), DatasetError
     })
 }
 
-/// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm); rows with all three empty are
-/// skipped. Returns the points with their 1-based line numbers.
-pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+/// One data row of a CSV read by column names: its 1-based line number and the trimmed fields
+/// of the requested columns, in the order they were requested.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedRow<'a> {
+    /// 1-based line number (the header is line 1).
+    pub line: usize,
+    /// The requested columns' fields.
+    pub fields: Vec<&'a str>,
+}
+
+/// The rows of a CSV text whose header names `columns` (in any order, among others), blank
+/// lines skipped. A missing column or a row with another number of fields than the header is
+/// an error naming `path` and the line.
+pub fn named_rows<'a>(
+    path: &Path,
+    text: &'a str,
+    columns: &[&'static str],
+) -> Result<Vec<NamedRow<'a>>, DatasetError> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
-    const EXPECTED: &str = "x_mm,y_mm,z_mm (among other columns, in any order)";
     let header = lines.next().map_or("", |(_, l)| l);
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let find = |name: &str| names.iter().position(|n| *n == name);
-    let (Some(ix), Some(iy), Some(iz)) = (find("x_mm"), find("y_mm"), find("z_mm")) else {
-        return Err(DatasetError::CsvHeader {
-            path: path.to_path_buf(),
-            expected: EXPECTED,
-            found: header.to_string(),
-        });
-    };
-    let mut points = Vec::new();
-    for (n, line) in lines {
-        if line.trim().is_empty() {
+    let index = columns
+        .iter()
+        .map(|&column| {
+            names
+                .iter()
+                .position(|n| *n == column)
+                .ok_or_else(|| DatasetError::CsvMissingColumn {
+                    path: path.to_path_buf(),
+                    column,
+                    required: columns.join(","),
+                    found: header.to_string(),
+                })
+        })
+        .collect::<Result<Vec<usize>, _>>()?;
+    let mut rows = Vec::new();
+    for (line, text) in lines {
+        if text.trim().is_empty() {
             continue;
         }
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let f: Vec<&str> = text.split(',').map(str::trim).collect();
         if f.len() != names.len() {
             return Err(DatasetError::CsvFieldCount {
                 path: path.to_path_buf(),
-                line: n,
+                line,
                 expected: names.len(),
                 found: f.len(),
             });
         }
-        if f[ix].is_empty() && f[iy].is_empty() && f[iz].is_empty() {
+        rows.push(NamedRow {
+            line,
+            fields: index.iter().map(|&i| f[i]).collect(),
+        });
+    }
+    Ok(rows)
+}
+
+/// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm); rows with all three empty are
+/// skipped. Returns the points with their 1-based line numbers.
+pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
+    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    const COLUMNS: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
+    let mut points = Vec::new();
+    for row in named_rows(path, &text, &COLUMNS)? {
+        if row.fields.iter().all(|f| f.is_empty()) {
             continue;
         }
         let mut p = [0.0; 3];
-        for (k, (i, column)) in [(ix, "x_mm"), (iy, "y_mm"), (iz, "z_mm")]
-            .into_iter()
-            .enumerate()
-        {
-            p[k] = f[i]
+        for (k, column) in COLUMNS.into_iter().enumerate() {
+            p[k] = row.fields[k]
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| DatasetError::CsvValue {
                     path: path.to_path_buf(),
-                    line: n,
+                    line: row.line,
                     column,
                     expected: "a finite number (mm)",
-                    found: f[i].to_string(),
+                    found: row.fields[k].to_string(),
                 })?;
         }
-        points.push((n, p));
+        points.push((row.line, p));
     }
     Ok(points)
 }

@@ -13,6 +13,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::manifest::{for_each_line, MANIFEST};
+use super::points_csv::named_rows;
 use super::DatasetError;
 use crate::localise::metrics::Stats;
 
@@ -33,42 +34,15 @@ pub struct BipRow {
 /// Reads a BIPs CSV (see the module documentation). Errors name the file, line and column.
 pub fn read_bips_csv(path: &Path) -> Result<Vec<BipRow>, DatasetError> {
     let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
-    let mut lines = text.lines().enumerate();
-    let header = lines.next().map_or("", |(_, h)| h);
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let mut columns = [0usize; 4];
-    for (k, required) in REQUIRED.iter().enumerate() {
-        columns[k] = names.iter().position(|n| n == required).ok_or_else(|| {
-            DatasetError::CsvMissingColumn {
-                path: path.to_path_buf(),
-                column: required,
-                required: "sample,x_mm,y_mm,z_mm",
-                found: header.to_owned(),
-            }
-        })?;
-    }
     let mut rows = Vec::new();
-    for (i, line) in lines {
-        let number = i + 1;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        if fields.len() != names.len() {
-            return Err(DatasetError::CsvFieldCount {
-                path: path.to_path_buf(),
-                line: number,
-                expected: names.len(),
-                found: fields.len(),
-            });
-        }
+    for row in named_rows(path, &text, &REQUIRED)? {
         let bad = |k: usize, message: String| DatasetError::CsvField {
             path: path.to_path_buf(),
-            line: number,
+            line: row.line,
             column: REQUIRED[k].to_owned(),
             message,
         };
-        let field = fields[columns[0]];
+        let field = row.fields[0];
         let sample = field.parse::<u64>().map_err(|_| {
             bad(
                 0,
@@ -77,7 +51,7 @@ pub fn read_bips_csv(path: &Path) -> Result<Vec<BipRow>, DatasetError> {
         })?;
         let mut point_mm = [0.0; 3];
         for (k, v) in point_mm.iter_mut().enumerate() {
-            let field = fields[columns[k + 1]];
+            let field = row.fields[k + 1];
             *v = field
                 .parse::<f64>()
                 .ok()
@@ -87,7 +61,7 @@ pub fn read_bips_csv(path: &Path) -> Result<Vec<BipRow>, DatasetError> {
         rows.push(BipRow {
             sample,
             point_mm,
-            line: number,
+            line: row.line,
         });
     }
     Ok(rows)

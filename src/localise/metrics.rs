@@ -9,8 +9,9 @@ use super::nearest::closest_on_border;
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 
-/// Summary of a set of errors (the unit of the values it was built from).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Summary of a set of errors (the unit of the values it was built from). Serialises as
+/// `{"mean", "std", "max", "n"}`, NaN as JSON null.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Stats {
     /// Arithmetic mean (NaN when `n` = 0).
     pub mean: f64,

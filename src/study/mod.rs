@@ -16,6 +16,15 @@ pub mod sweep_report;
 pub mod tally;
 pub mod wrong_surface;
 
+/// A report object with the run's description (`run`, an object: scene, seed, files, …) merged
+/// into it; a key of `run` replaces the report's key of the same name.
+pub fn with_run(mut report: serde_json::Value, run: serde_json::Value) -> serde_json::Value {
+    if let (serde_json::Value::Object(o), serde_json::Value::Object(r)) = (&mut report, run) {
+        o.extend(r);
+    }
+    report
+}
+
 /// A setting converted back to the unit it was typed in (degrees from radians, milliseconds
 /// from seconds), rounded to 1e-9 of that unit, so that 15° comes back as 15 and not as
 /// 14.999999999999998 in tables, file names and plots. The simulation uses the unrounded value.

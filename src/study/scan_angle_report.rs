@@ -5,7 +5,7 @@ use serde_json::{json, Value};
 
 use super::csv_number;
 use super::scan_angle::{AngleResult, ScanAngleStudy, SweepAngle};
-use super::tally::{by_rule_json, stats_json};
+use super::tally::by_rule_json;
 use crate::plot::error_bars::{ErrorBars, Series};
 
 /// `variant,scan_angle_deg,position,out_mm,up_mm,intensity,label`: every valid point of every
@@ -133,7 +133,7 @@ pub fn summary_json(study: &ScanAngleStudy, run: Value) -> Value {
                         v.variant.name().to_owned(),
                         json!({
                             "valid_points": valid,
-                            "nearest_point_mm": stats_json(&v.nearest_stats()),
+                            "nearest_point_mm": v.nearest_stats(),
                             "nearest_point_mm_per_position": v.nearest_mm,
                             "saturated_pixel_fraction": v.saturated_pixel_fraction(),
                             "saturated_point_fraction": v.saturated_points as f64 / valid as f64,
@@ -168,7 +168,7 @@ pub fn summary_json(study: &ScanAngleStudy, run: Value) -> Value {
             });
             json!({
                 "scan_angle_deg": a.scan_angle_deg,
-                "bip_error_mm": bip.map(|r| stats_json(&r[0].error_mm)),
+                "bip_error_mm": bip.map(|r| r[0].error_mm),
                 "valid_fraction": bip.map(|r| r[0].valid_fraction),
                 "bip_error_mm_by_rule": bip.as_ref().map(by_rule_json),
                 "variants": variants,
@@ -182,19 +182,13 @@ pub fn summary_json(study: &ScanAngleStudy, run: Value) -> Value {
         .map(|a| {
             json!({
                 "scan_angle_deg": a.scan_angle_deg,
-                "bip_error_mm": stats_json(&a.rules[0].error_mm),
+                "bip_error_mm": a.rules[0].error_mm,
                 "valid_fraction": a.rules[0].valid_fraction,
                 "bip_error_mm_by_rule": by_rule_json(&a.rules),
             })
         })
         .collect();
-    let mut out = json!({"angles": angles, "sweep": sweep});
-    if let (Value::Object(o), Value::Object(r)) = (&mut out, run) {
-        for (k, v) in r {
-            o.insert(k, v);
-        }
-    }
-    out
+    super::with_run(json!({"angles": angles, "sweep": sweep}), run)
 }
 
 #[cfg(test)]

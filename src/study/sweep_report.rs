@@ -4,7 +4,7 @@ use serde_json::{json, Value};
 
 use super::grid::{threshold_name, SweepGrid};
 use super::sweep::CellResult;
-use super::tally::{by_rule_json, stats_json};
+use super::tally::by_rule_json;
 use super::{as_typed, csv_number};
 
 /// One row per cell: the settings, BIP error by both rules, valid fractions, saturated-pixel
@@ -59,7 +59,7 @@ pub fn cells_json(grid: &SweepGrid, cells: &[CellResult], run: Value) -> Value {
                 "exposure_ms": as_typed(grid.exposures_s[c.exposure] * 1e3),
                 "threshold": threshold_name(&grid.thresholds[c.threshold]),
                 "peak_select": grid.peak_selects[c.peak_select].name().to_ascii_lowercase(),
-                "bip_error_mm": stats_json(&r.rules[0].error_mm),
+                "bip_error_mm": r.rules[0].error_mm,
                 "valid_fraction": r.rules[0].valid_fraction,
                 "bip_error_mm_by_rule": by_rule_json(&r.rules),
                 "saturated_pixel_fraction": r.saturated_pixel_fraction(),
@@ -68,13 +68,7 @@ pub fn cells_json(grid: &SweepGrid, cells: &[CellResult], run: Value) -> Value {
             })
         })
         .collect();
-    let mut out = json!({"cells": rows});
-    if let (Value::Object(o), Value::Object(r)) = (&mut out, run) {
-        for (k, v) in r {
-            o.insert(k, v);
-        }
-    }
-    out
+    super::with_run(json!({"cells": rows}), run)
 }
 
 #[cfg(test)]

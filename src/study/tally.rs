@@ -93,18 +93,11 @@ impl RuleSummary {
     }
 }
 
-/// `{"mean", "std", "max", "n"}` of a [`Stats`] (NaN becomes JSON null).
-pub fn stats_json(s: &Stats) -> serde_json::Value {
-    serde_json::json!({"mean": s.mean, "std": s.std, "max": s.max, "n": s.n})
-}
-
 /// The JSON form of a rule summary: the error statistics plus `valid_fraction`.
 #[derive(Serialize)]
 struct RuleJson {
-    mean: f64,
-    std: f64,
-    max: f64,
-    n: usize,
+    #[serde(flatten)]
+    error_mm: Stats,
     valid_fraction: f64,
 }
 
@@ -112,10 +105,7 @@ impl RuleSummary {
     /// `{"mean", "std", "max", "n", "valid_fraction"}` (NaN becomes JSON null).
     pub fn to_json(&self) -> serde_json::Value {
         let v = RuleJson {
-            mean: self.error_mm.mean,
-            std: self.error_mm.std,
-            max: self.error_mm.max,
-            n: self.error_mm.n,
+            error_mm: self.error_mm,
             valid_fraction: self.valid_fraction,
         };
         serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
