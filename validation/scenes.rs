@@ -5,6 +5,7 @@ use std::path::Path;
 use glassscan::scan::poses::plan_border_scan;
 use glassscan::scan::simulate::simulate_pose;
 use glassscan::scene;
+use glassscan::sensor::path_class::PathClass;
 use glassscan::sensor::SensorHead;
 use glassscan::transport::{TraceScene, TraceSettings};
 use nalgebra::Point3;
@@ -71,9 +72,14 @@ fn flat_opaque_profile_matches_the_analytic_plate_and_table() {
             if border_distance_mm(&border, &b) < 1.0 {
                 continue;
             }
+            // Issue 10, part 5: the plate is the scene's target and carries no label, so its
+            // returns are `target` (they used to be reported as `background`), the table's
+            // `table`; every valid point has a class.
             if (z_mm - 4.0).abs() < 1.0 {
+                assert_eq!(p.label, Some(PathClass::Target), "plate point {p:?}");
                 top.push(z_mm - 4.0);
             } else if z_mm.abs() < 1.0 {
+                assert_eq!(p.label, Some(PathClass::Table), "table point {p:?}");
                 table.push(z_mm);
             } else {
                 panic!(

@@ -71,7 +71,7 @@ impl PoseEntry {
             edge_point_mm: [e.x, e.y, e.z],
             border_fraction: r.pose.border_fraction,
             valid_points: r.profile.points.iter().filter(|p| p.valid).count(),
-            labels: PathClass::ALL
+            labels: PathClass::LABELS
                 .iter()
                 .map(|&c| {
                     let n = r

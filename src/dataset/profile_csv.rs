@@ -133,9 +133,7 @@ fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoin
     let label = match fields[10] {
         "" => None,
         name => Some(
-            PathClass::ALL
-                .into_iter()
-                .find(|c| c.name() == name)
+            PathClass::from_name(name)
                 .ok_or_else(|| error(10, "a path class name (glass_face, table, …) or nothing"))?,
         ),
     };
@@ -236,7 +234,7 @@ mod tests {
             },
         ];
         // Every class name, on the reflections of one column.
-        for (i, &class) in PathClass::ALL.iter().enumerate() {
+        for (i, &class) in PathClass::LABELS.iter().enumerate() {
             points.push(ProfilePoint {
                 reflection: (i % MAX_PEAKS) as u8,
                 label: Some(class),

@@ -116,6 +116,10 @@ fn label_color(label: Option<PathClass>) -> [u8; 3] {
         Some(PathClass::Table) => [128, 128, 128],
         Some(PathClass::TapeCover) => [160, 82, 45],
         Some(PathClass::Background) => [90, 90, 200],
+        Some(PathClass::Target) => [255, 60, 60],
+        Some(PathClass::Other) => [200, 200, 160],
+        Some(PathClass::GlassReflected) => [0, 120, 255],
+        Some(PathClass::SensorNoise) => [40, 40, 40],
         None => [255, 255, 255],
     }
 }
@@ -142,7 +146,7 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
             "base frame B (z up, table top z = 0), millimetres".into(),
             format!(
                 "colour = path class of the peak: {}",
-                PathClass::ALL
+                PathClass::LABELS
                     .iter()
                     .map(|&c| {
                         let [r, g, b] = label_color(Some(c));

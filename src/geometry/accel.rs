@@ -8,8 +8,11 @@
 //! Units: obvhs sees millimetres, not metres. Its CWBVH node test clamps the entry distance to
 //! `EPSILON = 1e-4` scene units (obvhs 0.4.0 `cwbvh/node.rs`), so in metres every box that a
 //! ray leaves within 0.1 mm of its origin is culled: a ray from a table 10 µm under a glass
-//! pane misses the pane. In millimetres that blind zone is 0.1 µm, below the tracer's 2 µm ray
-//! offset; f32 still resolves ~0.06 µm over a metre, and hits are refined in f64 anyway.
+//! pane misses the pane. In millimetres that blind zone is 0.1 µm; f32 still resolves ~0.06 µm over a
+//! metre, and hits are refined in f64 anyway.
+//!
+//! Rays that leave a surface start at the exact hit point and skip the triangle they leave
+//! (`closest_hit_leaving`), so no offset moves a ray's line.
 
 use std::time::Duration;
 
@@ -74,6 +77,16 @@ pub struct SceneAccel {
 
 /// BVH units per metre (see the module documentation).
 const BVH_UNITS_PER_M: f64 = 1e3;
+
+/// Candidates of [`SceneAccel::closest_hit_leaving`] that the f32 test puts closer than this
+/// (m) are tested again in f64: f32 rounding of a neighbour's plane at ~1 m from the base
+/// frame's origin is ~0.1 µm, and ≤ 3 µm along a ray 2° from grazing.
+pub const NEAR_HIT_M: f64 = 1e-5;
+
+/// Least distance (m) from a surface at which a ray leaving it may hit another triangle:
+/// far above f64 rounding of hit points (~1e-16 m) and far below any gap in a scene (the shipped
+/// scenes keep 10 µm between objects). A ray's line is never moved; it only skips this much.
+pub const SELF_HIT_T_MIN_M: f64 = 1e-8;
 
 fn to_vec3a(p: &Point3<f64>) -> Vec3A {
     let p = p * BVH_UNITS_PER_M;
@@ -156,6 +169,79 @@ impl SceneAccel {
             bary.x,
             bary.y,
         ))
+    }
+
+    /// The closest hit along a ray that starts exactly on a surface, at `origin` on triangle
+    /// `leaving` (an index as in [`Hit::triangle`]), with t in (0, t_max].
+    ///
+    /// Secondary rays start at the exact f64 hit point, not offset from the surface: an offset
+    /// along the normal moves a refracted ray sideways by ε·(sin θ + cos θ·tan θ_t) per interface,
+    /// which triangulation magnifies about threefold (2–9 µm of range through a 6 mm plate
+    /// tilted 30–60° with ε = 2 µm, found by an independent check). Instead the triangle just
+    /// left is skipped, and candidates that the f32 test puts within [`NEAR_HIT_M`] of the
+    /// origin (its neighbours, which the ray leaves at t ≈ 0 up to f32 rounding) are tested
+    /// again in f64 and kept only beyond [`SELF_HIT_T_MIN_M`] along the ray: the ray's line is
+    /// never moved.
+    pub fn closest_hit_leaving(
+        &self,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        leaving: u32,
+        t_max: f64,
+    ) -> Option<Hit> {
+        let ray = to_ray(origin, dir, 0.0, t_max);
+        let near = (NEAR_HIT_M * BVH_UNITS_PER_M) as f32;
+        let mut hit = RayHit::none();
+        let found = self.bvh.ray_traverse(ray, &mut hit, |r, id| {
+            let tri = self.source[id];
+            if tri == leaving {
+                return f32::INFINITY;
+            }
+            let t = self.rt[id].intersect(r);
+            if t >= near {
+                return t;
+            }
+            match self.intersect_f64(tri, origin, dir) {
+                Some(t64) if t64 >= SELF_HIT_T_MIN_M && t64 <= t_max => {
+                    (t64 * BVH_UNITS_PER_M) as f32
+                }
+                _ => f32::INFINITY,
+            }
+        });
+        if !found {
+            return None;
+        }
+        let id = hit.primitive_id as usize;
+        let bary = self.rt[id].compute_barycentric(&ray);
+        Some(self.make_hit(
+            self.source[id],
+            hit.t as f64 / BVH_UNITS_PER_M,
+            origin,
+            dir,
+            bary.x,
+            bary.y,
+        ))
+    }
+
+    /// Distance (m) along `origin + t·dir` to input triangle `tri` in f64 (Möller–Trumbore),
+    /// or `None` if the ray misses it or runs parallel to it.
+    fn intersect_f64(&self, tri: u32, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<f64> {
+        let [a, b, c] = self.input[tri as usize].vertices;
+        let (e1, e2) = (b - a, c - a);
+        let p = dir.cross(&e2);
+        let det = e1.dot(&p);
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = origin - a;
+        let u = s.dot(&p) * inv;
+        let q = s.cross(&e1);
+        let v = dir.dot(&q) * inv;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        Some(e2.dot(&q) * inv)
     }
 
     /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max] (`dir` unit length).

@@ -11,7 +11,10 @@
 //! - `through_glass`: an opaque surface seen through the pane (the refracted, raised table of
 //!   the paper's Fig. 5);
 //! - `glint`: a purely specular chain into the aperture;
-//! - `internal_reflection`: a face scatterer reached after a reflection inside the glass.
+//! - `internal_reflection`: a face scatterer reached after a reflection inside the glass;
+//! - `glass_reflected`: an opaque surface lit by light a glass surface reflected onto it, off
+//!   the laser plane (the mirror image of the line in a pane);
+//! - `sensor_noise`: a peak with no traced light at all.
 //!
 //! `glass_face` counts as right even though it also holds the bottom face's imperfections seen
 //! through the top face (the label does not separate them); their return is the faint 0.2 %
@@ -25,7 +28,13 @@ use crate::sensor::profile::Profile;
 pub fn is_wrong_surface(label: Option<PathClass>) -> bool {
     matches!(
         label,
-        Some(PathClass::ThroughGlass | PathClass::Glint | PathClass::InternalReflection)
+        Some(
+            PathClass::ThroughGlass
+                | PathClass::Glint
+                | PathClass::InternalReflection
+                | PathClass::GlassReflected
+                | PathClass::SensorNoise
+        )
     )
 }
 
@@ -46,12 +55,21 @@ mod tests {
 
     #[test]
     fn refracted_and_mirrored_paths_are_wrong_and_direct_ones_right() {
-        let wrong: Vec<&str> = PathClass::ALL
+        let wrong: Vec<&str> = PathClass::LABELS
             .iter()
             .filter(|c| is_wrong_surface(Some(**c)))
             .map(|c| c.name())
             .collect();
-        assert_eq!(wrong, ["through_glass", "glint", "internal_reflection"]);
+        assert_eq!(
+            wrong,
+            [
+                "through_glass",
+                "glint",
+                "internal_reflection",
+                "glass_reflected",
+                "sensor_noise"
+            ]
+        );
         assert!(!is_wrong_surface(None));
     }
 }

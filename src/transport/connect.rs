@@ -29,8 +29,6 @@ use crate::optics::refract::refract;
 
 /// Most glass interfaces a connection chain may cross.
 const MAX_INTERFACES: usize = 8;
-/// Offset of chain ray origins from the surface they leave (m).
-const EPSILON_M: f64 = 2e-6;
 /// Angular step of the finite differences (rad): lens-plane shifts of ~0.05 µm, far above f64
 /// rounding of the (f64-refined) hit points and far below any curvature of the chain.
 const FD_STEP_RAD: f64 = 1e-7;
@@ -69,15 +67,16 @@ pub fn follow_chain(
     scene: &TraceScene,
     aperture: &Aperture,
     origin: Point3<f64>,
+    leaving: u32,
     dir: Vector3<f64>,
 ) -> Option<ChainEnd> {
-    let (mut o, mut d) = (origin, dir);
+    let (mut o, mut d, mut leaving) = (origin, dir, leaving);
     let mut stokes = Stokes::unpolarized(&d);
     let mut transmittance = 1.0;
     let mut crossed_glass = false;
     for _ in 0..=MAX_INTERFACES {
         let t_plane = aperture.plane_distance(&o, &d)?;
-        let Some(hit) = scene.accel.closest_hit(&o, &d, 0.0, t_plane) else {
+        let Some(hit) = scene.accel.closest_hit_leaving(&o, &d, leaving, t_plane) else {
             return Some(ChainEnd {
                 landing: o + d * t_plane,
                 dir: d,
@@ -113,35 +112,34 @@ pub fn follow_chain(
         stokes.s = stokes.s.map(|v| v / intensity);
         d = wt;
         stokes.rotate_frame(&d, &s_axis(&d, &n));
-        o = hit.point - hit.geometric_normal * (side * EPSILON_M);
+        o = hit.point;
+        leaving = hit.triangle;
         crossed_glass = true;
     }
     None
 }
 
-/// Launch point for direction `dir` from surface point `x` with outward geometric normal `ng`.
-fn launch_point(x: &Point3<f64>, ng: &Vector3<f64>, dir: &Vector3<f64>) -> Point3<f64> {
-    x + ng * EPSILON_M.copysign(dir.dot(ng))
-}
-
-/// Solves for the launch direction from `x` whose chain lands on `lens_point`, starting from
-/// `seed`. The launch side (the sign of ω·ng) is kept fixed.
+/// Solves for the launch direction from `x` (on triangle `leaving`) whose chain lands on
+/// `lens_point`, starting from `seed`. The launch side (the sign of ω·ng) is kept fixed.
 pub fn solve_connection(
     scene: &TraceScene,
     aperture: &Aperture,
-    x: &Point3<f64>,
-    ng: &Vector3<f64>,
+    vertex: &VertexOnSurface,
     lens_point: &Point3<f64>,
     seed: Vector3<f64>,
 ) -> Option<Connection> {
-    let side = seed.dot(ng).signum();
-    let origin = launch_point(x, ng, &seed);
+    let VertexOnSurface {
+        point,
+        ng,
+        triangle,
+    } = *vertex;
+    let side = seed.dot(&ng).signum();
     let target = Vector2::from(aperture.plane_coords(lens_point));
     let land = |w: &Vector3<f64>| -> Option<(Vector2<f64>, ChainEnd)> {
-        if w.dot(ng) * side <= 0.0 {
+        if w.dot(&ng) * side <= 0.0 {
             return None;
         }
-        let end = follow_chain(scene, aperture, origin, *w)?;
+        let end = follow_chain(scene, aperture, point, triangle, *w)?;
         Some((Vector2::from(aperture.plane_coords(&end.landing)), end))
     };
     let mut w = seed.normalize();
@@ -178,30 +176,40 @@ pub fn solve_connection(
     None
 }
 
-/// The connections (at most two) from vertex `x` (outward geometric normal `ng`) to `lens_point`: the
-/// straight segment if nothing is in the way, otherwise the transmitted chains from the
-/// straight seed and, for a vertex on glass, from its mirror image into the glass.
+/// A scattering vertex as the connections need it: the exact surface point, the triangle's
+/// outward geometric normal, and the triangle (which rays leaving the vertex skip).
+#[derive(Clone, Copy, Debug)]
+pub struct VertexOnSurface {
+    /// The hit point (m).
+    pub point: Point3<f64>,
+    /// Outward geometric normal of the triangle (unit).
+    pub ng: Vector3<f64>,
+    /// The triangle, as in `Hit::triangle`.
+    pub triangle: u32,
+}
+
+/// The connections (at most two) from `vertex` to `lens_point`: the straight segment if
+/// nothing is in the way, otherwise the transmitted chains from the straight seed and, for a
+/// vertex on glass, from its mirror image into the glass.
 pub fn connect(
     scene: &TraceScene,
     aperture: &Aperture,
-    x: &Point3<f64>,
-    ng: &Vector3<f64>,
+    vertex: &VertexOnSurface,
     on_glass: bool,
     lens_point: &Point3<f64>,
 ) -> [Option<Connection>; 2] {
     let mut out = [None, None];
+    let (x, ng) = (&vertex.point, &vertex.ng);
     let straight = lens_point - x;
     let dist = straight.norm();
     let s = straight / dist;
-    let origin = launch_point(x, ng, &s);
-    let to_lens = lens_point - origin;
     let cos_l = -s.dot(&aperture.axis);
     if cos_l <= 0.0 {
         return out;
     }
     match scene
         .accel
-        .closest_hit(&origin, &(to_lens / to_lens.norm()), 0.0, to_lens.norm())
+        .closest_hit_leaving(x, &s, vertex.triangle, dist)
     {
         None => {
             out[0] = Some(Connection {
@@ -216,13 +224,13 @@ pub fn connect(
             })
         }
         Some(hit) if scene.glass(hit.material).is_some() => {
-            out[0] = solve_connection(scene, aperture, x, ng, lens_point, s);
+            out[0] = solve_connection(scene, aperture, vertex, lens_point, s);
         }
         Some(_) => {}
     }
     if on_glass {
         let mirrored = s - ng * (2.0 * s.dot(ng));
-        if let Some(c) = solve_connection(scene, aperture, x, ng, lens_point, mirrored) {
+        if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored) {
             if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
                 out[1] = Some(c);
             }

@@ -4,6 +4,7 @@
 use crate::geometry::accel::{SceneAccel, SceneTriangle};
 use crate::optics::lambert::Lambertian;
 use crate::scene::world::{Material, ObjectLabel, World};
+use crate::sensor::path_class::PathClass;
 
 /// Why a world cannot be traced.
 #[derive(Debug, thiserror::Error)]
@@ -45,8 +46,9 @@ pub struct TraceScene {
     pub accel: SceneAccel,
     /// Surface model per world material index.
     pub surfaces: Vec<SurfaceModel>,
-    /// Label per world object index.
-    pub labels: Vec<ObjectLabel>,
+    /// Per world object index, the class of the light an opaque object returns directly (no
+    /// glass on the path): from its label, and `Target` for the scene's target.
+    pub direct_class: Vec<PathClass>,
 }
 
 impl TraceScene {
@@ -87,10 +89,20 @@ impl TraceScene {
         if triangles.is_empty() {
             return Err(TransportError::Empty { scene });
         }
+        let target = world.target.as_ref().map(|t| t.object);
+        let direct_class = (world.objects.iter().enumerate())
+            .map(|(k, o)| {
+                if Some(k) == target {
+                    PathClass::Target
+                } else {
+                    label_class(o.label)
+                }
+            })
+            .collect();
         Ok(TraceScene {
             accel: SceneAccel::build(triangles),
             surfaces,
-            labels: world.objects.iter().map(|o| o.label).collect(),
+            direct_class,
         })
     }
 
@@ -100,5 +112,15 @@ impl TraceScene {
             SurfaceModel::Glass(g) => Some(g),
             SurfaceModel::Lambertian(_) => None,
         }
+    }
+}
+
+/// The class of light returned directly by an opaque object labelled `label`.
+fn label_class(label: ObjectLabel) -> PathClass {
+    match label {
+        ObjectLabel::Table => PathClass::Table,
+        ObjectLabel::Tape | ObjectLabel::Cover => PathClass::TapeCover,
+        ObjectLabel::Background => PathClass::Background,
+        ObjectLabel::Other => PathClass::Other,
     }
 }

@@ -3,7 +3,7 @@
 use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
-use super::connect::connect;
+use super::connect::{connect, VertexOnSurface};
 use super::film::{develop, Irradiance, Splat};
 use super::interaction::{scatter_rough, scatter_smooth, RoughVertex, SmoothOutcome};
 use super::lens::Aperture;
@@ -15,7 +15,6 @@ use crate::optics::lambert::Lambertian;
 use crate::optics::polarization::Stokes;
 use crate::optics::warp::concentric_disk;
 use crate::sampler::PoseSampler;
-use crate::scene::world::ObjectLabel;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::projector::Polarization;
 use crate::sensor::SensorHead;
@@ -23,10 +22,6 @@ use crate::sensor::SensorHead;
 /// Photons per work unit. Fixed (not derived from the thread count) so that results do not
 /// depend on how many threads run.
 const CHUNK: u64 = 4096;
-
-/// Offset of secondary ray origins along the geometric normal (m): well above the f32
-/// resolution of the base frame (~0.1 µm at 1 m) and far below any feature size.
-pub(super) const RAY_EPSILON_M: f64 = 2e-6;
 
 /// Longest ray considered (m).
 const FAR_M: f64 = 100.0;
@@ -148,7 +143,11 @@ pub fn render(
 
 /// What a photon carries between interactions.
 struct Photon {
+    /// Where the current ray starts: the laser's source, then the exact point of the last
+    /// interaction (rays are not offset from surfaces; see `SceneAccel::closest_hit_leaving`).
     origin: Point3<f64>,
+    /// The triangle the current ray leaves (`None` for the laser's own ray).
+    leaving: Option<u32>,
     dir: Vector3<f64>,
     /// Flux (W).
     flux: f64,
@@ -160,6 +159,18 @@ struct Photon {
     crossed_glass: bool,
     /// The photon has been reflected inside glass.
     internal_reflection: bool,
+    /// The photon has been reflected by a glass surface (a face's Fresnel reflection or the
+    /// edge's back-scatter), from outside or inside.
+    reflected_by_glass: bool,
+}
+
+impl Photon {
+    /// Continues from the exact hit point along `dir`.
+    fn leave(&mut self, hit: &Hit, dir: Vector3<f64>) {
+        self.origin = hit.point;
+        self.leaving = Some(hit.triangle);
+        self.dir = dir;
+    }
 }
 
 /// A non-specular vertex that can connect to the camera.
@@ -200,19 +211,22 @@ impl Tracer<'_> {
         };
         let mut photon = Photon {
             origin: pose * ray.origin,
+            leaving: None,
             dir,
             flux: laser.power_w / self.settings.photons as f64,
             stokes,
             all_specular: true,
             crossed_glass: false,
             internal_reflection: false,
+            reflected_by_glass: false,
         };
 
         for depth in 0..self.settings.max_depth {
-            let hit = self
-                .scene
-                .accel
-                .closest_hit(&photon.origin, &photon.dir, 0.0, FAR_M);
+            let accel = &self.scene.accel;
+            let hit = match photon.leaving {
+                None => accel.closest_hit(&photon.origin, &photon.dir, 0.0, FAR_M),
+                Some(tri) => accel.closest_hit_leaving(&photon.origin, &photon.dir, tri, FAR_M),
+            };
             if photon.all_specular && depth > 0 {
                 let t_max = hit.as_ref().map_or(FAR_M, |h| h.t);
                 if let Some(p) = self.aperture.enters(&photon.origin, &photon.dir, t_max) {
@@ -267,10 +281,14 @@ impl Tracer<'_> {
         u_rr: f64,
     ) -> bool {
         let (ng, ns) = facing_normals(hit, &photon.dir);
+        // Light that crossed glass is seen where the glass put it; light that glass reflected
+        // onto the surface lights it off the laser plane; only the rest is a direct return.
         let class = if photon.crossed_glass {
             PathClass::ThroughGlass
+        } else if photon.reflected_by_glass {
+            PathClass::GlassReflected
         } else {
-            opaque_class(self.scene.labels[hit.object as usize])
+            self.scene.direct_class[hit.object as usize]
         };
         self.connect_vertex(
             photon,
@@ -302,8 +320,7 @@ impl Tracer<'_> {
         if wi.dot(ng) <= 0.0 {
             return false;
         }
-        photon.origin = hit.point + ng * RAY_EPSILON_M;
-        photon.dir = wi;
+        photon.leave(hit, wi);
         photon.stokes = Stokes::unpolarized(&wi);
         true
     }
@@ -342,14 +359,14 @@ impl Tracer<'_> {
             return match scatter_rough(&vertex, &mut photon.stokes, uc, u2) {
                 Some(s) => {
                     photon.flux *= s.weight;
-                    photon.dir = s.wi;
-                    photon.origin = hit.point
-                        + hit.geometric_normal
-                            * RAY_EPSILON_M.copysign(s.wi.dot(&hit.geometric_normal));
+                    photon.leave(hit, s.wi);
                     if s.transmitted {
                         photon.crossed_glass = true;
-                    } else if !entering {
-                        photon.internal_reflection = true;
+                    } else {
+                        photon.reflected_by_glass = true;
+                        if !entering {
+                            photon.internal_reflection = true;
+                        }
                     }
                     true
                 }
@@ -384,17 +401,14 @@ impl Tracer<'_> {
                 if !entering {
                     photon.internal_reflection = true;
                 }
-                photon.dir = dir;
-                photon.origin = hit.point
-                    + hit.geometric_normal * RAY_EPSILON_M.copysign(dir.dot(&hit.geometric_normal));
+                photon.reflected_by_glass = true;
+                photon.leave(hit, dir);
                 true
             }
             SmoothOutcome::Transmitted { dir } => {
                 self.stats.refractions += 1;
                 photon.crossed_glass = true;
-                photon.dir = dir;
-                photon.origin = hit.point
-                    + hit.geometric_normal * RAY_EPSILON_M.copysign(dir.dot(&hit.geometric_normal));
+                photon.leave(hit, dir);
                 true
             }
             SmoothOutcome::Absorbed => false,
@@ -412,11 +426,15 @@ impl Tracer<'_> {
         lens_u: [f64; 2],
     ) {
         let lens_point = self.aperture.point(concentric_disk(lens_u));
+        let vertex_on_surface = VertexOnSurface {
+            point: hit.point,
+            ng: hit.geometric_normal,
+            triangle: hit.triangle,
+        };
         let connections = connect(
             self.scene,
             &self.aperture,
-            &hit.point,
-            &hit.geometric_normal,
+            &vertex_on_surface,
             on_glass,
             &lens_point,
         );
@@ -474,15 +492,6 @@ impl Tracer<'_> {
             }
             _ => self.stats.off_sensor += 1,
         }
-    }
-}
-
-/// The class of light returned directly (no glass on the path) by an opaque object.
-fn opaque_class(label: ObjectLabel) -> PathClass {
-    match label {
-        ObjectLabel::Table => PathClass::Table,
-        ObjectLabel::Tape | ObjectLabel::Cover => PathClass::TapeCover,
-        ObjectLabel::Background | ObjectLabel::Other => PathClass::Background,
     }
 }
 

@@ -278,7 +278,7 @@ impl FirmwareSettings {
 ///
 /// `classes`, if given, holds one irradiance image per path class in [`PathClass::ALL`] order,
 /// of the image's size; each point is labelled with the class of largest irradiance summed over
-/// its peak's window.
+/// its peak's window, or `SensorNoise` when no traced light reached it.
 ///
 /// Panics if `points_per_profile` is 0 or does not divide the columns, if `max_peaks` is not
 /// 1…4, or if `classes` does not match (cheap preconditions: [`FirmwareSettings::check`] and the
@@ -333,7 +333,7 @@ pub fn extract(
         }
         for slot in chosen {
             let peak = &found[slot];
-            let label = classes.and_then(|c| peaks::label(c, column, peak.window));
+            let label = classes.map(|c| peaks::label(c, column, peak.window));
             points.push(locate(camera, column, slot as u8, threshold, peak, label));
         }
     }

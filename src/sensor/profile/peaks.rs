@@ -138,12 +138,8 @@ pub(super) fn column_peaks(column: &[u16], threshold: u16) -> Vec<Peak> {
 
 /// The path class with the largest irradiance summed over rows `window` of `column` in
 /// `classes` (one image per class, [`PathClass::ALL`] order); ties go to the earlier class.
-/// `None` if no class put any light there.
-pub(super) fn label(
-    classes: &[Image<f64>],
-    column: usize,
-    window: (usize, usize),
-) -> Option<PathClass> {
+/// [`PathClass::SensorNoise`] if no class put any light there: the peak is the sensor's noise.
+pub(super) fn label(classes: &[Image<f64>], column: usize, window: (usize, usize)) -> PathClass {
     let mut best: Option<(PathClass, f64)> = None;
     for (&class, image) in PathClass::ALL.iter().zip(classes) {
         let sum: f64 = (window.0..=window.1).map(|r| image.get(column, r)).sum();
@@ -151,7 +147,7 @@ pub(super) fn label(
             best = Some((class, sum));
         }
     }
-    best.map(|b| b.0)
+    best.map_or(PathClass::SensorNoise, |b| b.0)
 }
 
 #[cfg(test)]
@@ -207,8 +203,8 @@ mod tests {
         classes[table].data[2 * 2 + 1] = 3.0;
         classes[edge].data[3 * 2 + 1] = 2.0;
         classes[edge].data[4 * 2 + 1] = 2.0;
-        assert_eq!(label(&classes, 1, (0, 3)), Some(PathClass::Table));
-        assert_eq!(label(&classes, 1, (0, 5)), Some(PathClass::GlassEdge));
-        assert_eq!(label(&classes, 0, (0, 5)), None);
+        assert_eq!(label(&classes, 1, (0, 3)), PathClass::Table);
+        assert_eq!(label(&classes, 1, (0, 5)), PathClass::GlassEdge);
+        assert_eq!(label(&classes, 0, (0, 5)), PathClass::SensorNoise);
     }
 }
