@@ -94,9 +94,12 @@ fn to_vec3a(p: &Point3<f64>) -> Vec3A {
 }
 
 fn to_ray(origin: &Point3<f64>, dir: &Vector3<f64>, t_min: f64, t_max: f64) -> Ray {
+    // `+ 0.0` turns a negative zero into a positive one: obvhs 0.4.0's CWBVH traversal misses
+    // every box for a direction component of −0.0 (its reciprocal −∞ breaks the node test; a
+    // ray along (−0, −0, −1) from above a pane found nothing). Regression test below.
     Ray::new(
         to_vec3a(origin),
-        Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
+        Vec3A::new(dir.x as f32 + 0.0, dir.y as f32 + 0.0, dir.z as f32 + 0.0),
         (t_min * BVH_UNITS_PER_M) as f32,
         (t_max * BVH_UNITS_PER_M).min(f32::MAX as f64) as f32,
     )
@@ -433,6 +436,28 @@ mod tests {
             "u {u} v {v}"
         );
         assert!((h.geometric_normal - Vector3::z()).norm() < 1e-12);
+    }
+
+    /// Regression: a direction with a −0.0 component (`-Vector3::z()`) missed everything in
+    /// obvhs 0.4.0, while the same direction written with +0.0 hit.
+    #[test]
+    fn directions_with_negative_zero_components_hit() {
+        let mut tris = cloud(50);
+        tris.push(tri(
+            [-1.0, -1.0, -0.5],
+            [1.0, -1.0, -0.5],
+            [0.0, 1.0, -0.5],
+            7,
+        ));
+        let accel = SceneAccel::build(tris);
+        let o = Point3::new(0.0, 0.0, 0.7);
+        let down: Vector3<f64> = -Vector3::z();
+        assert!(down.x.is_sign_negative());
+        let h = accel
+            .closest_hit(&o, &down, 0.0, 5.0)
+            .expect("the plane below");
+        assert!((h.t - 1.2).abs() < 1e-9, "{}", h.t);
+        assert!(accel.occluded(&o, &down, 0.0, 5.0));
     }
 
     /// Regression: obvhs culls BVH nodes left within 1e-4 scene units of the ray origin; in

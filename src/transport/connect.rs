@@ -28,7 +28,7 @@ use crate::optics::polarization::{apply, mueller_transmission, s_axis, Stokes};
 use crate::optics::refract::refract;
 
 /// Most glass interfaces a connection chain may cross.
-const MAX_INTERFACES: usize = 8;
+pub const MAX_INTERFACES: usize = 8;
 /// Angular step of the finite differences (rad): lens-plane shifts of ~0.05 µm, far above f64
 /// rounding of the (f64-refined) hit points and far below any curvature of the chain.
 const FD_STEP_RAD: f64 = 1e-7;
@@ -188,16 +188,28 @@ pub struct VertexOnSurface {
     pub triangle: u32,
 }
 
+/// The connections from one vertex to one lens point.
+#[derive(Clone, Copy, Debug)]
+pub struct Connections {
+    /// At most two solutions.
+    pub found: [Option<Connection>; 2],
+    /// Whether the chains through glass were not solved because none of them can land on the
+    /// pixel grid (`deviation`).
+    pub culled: bool,
+}
+
 /// The connections (at most two) from `vertex` to `lens_point`: the straight segment if
 /// nothing is in the way, otherwise the transmitted chains from the straight seed and, for a
-/// vertex on glass, from its mirror image into the glass.
+/// vertex on glass, from its mirror image into the glass. Chains are solved only if the
+/// scene's deviation bound allows them to land on the pixel grid; the others cannot
+/// contribute, so skipping them changes no image.
 pub fn connect(
     scene: &TraceScene,
     aperture: &Aperture,
     vertex: &VertexOnSurface,
     on_glass: bool,
     lens_point: &Point3<f64>,
-) -> [Option<Connection>; 2] {
+) -> Connections {
     let mut out = [None, None];
     let (x, ng) = (&vertex.point, &vertex.ng);
     let straight = lens_point - x;
@@ -205,8 +217,19 @@ pub fn connect(
     let s = straight / dist;
     let cos_l = -s.dot(&aperture.axis);
     if cos_l <= 0.0 {
-        return out;
+        return Connections {
+            found: out,
+            culled: false,
+        };
     }
+    let may_land = || match &scene.deviation {
+        None => true,
+        Some(bound) => bound
+            .arrival_angle(dist)
+            .is_none_or(|cone| aperture.can_land(x, lens_point, cone)),
+    };
+    let mut checked: Option<bool> = None;
+    let mut may_land_once = || *checked.get_or_insert_with(may_land);
     match scene
         .accel
         .closest_hit_leaving(x, &s, vertex.triangle, dist)
@@ -224,11 +247,13 @@ pub fn connect(
             })
         }
         Some(hit) if scene.glass(hit.material).is_some() => {
-            out[0] = solve_connection(scene, aperture, vertex, lens_point, s);
+            if may_land_once() {
+                out[0] = solve_connection(scene, aperture, vertex, lens_point, s);
+            }
         }
         Some(_) => {}
     }
-    if on_glass {
+    if on_glass && may_land_once() {
         let mirrored = s - ng * (2.0 * s.dot(ng));
         if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored) {
             if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
@@ -236,5 +261,8 @@ pub fn connect(
             }
         }
     }
-    out
+    Connections {
+        found: out,
+        culled: checked == Some(false),
+    }
 }

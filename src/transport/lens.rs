@@ -22,6 +22,10 @@ pub struct Aperture<'a> {
     /// Second in-plane axis (base frame).
     pub v: Vector3<f64>,
     radius: f64,
+    /// The pixel grid's image in the laser plane y = 0 of S: the (x, z) corners (m) of the
+    /// quadrilateral whose points the thin lens images onto the grid, counter-clockwise or
+    /// clockwise (a projective image of the grid's rectangle, so convex).
+    grid_in_laser_plane: [[f64; 2]; 4],
 }
 
 impl<'a> Aperture<'a> {
@@ -31,6 +35,14 @@ impl<'a> Aperture<'a> {
         let a = camera.aperture_point([1.0, 0.0]) - camera.center();
         let b = camera.aperture_point([0.0, 1.0]) - camera.center();
         let radius = a.norm();
+        let spec = camera.spec();
+        let (w, h) = (spec.columns as f64, spec.rows as f64);
+        let grid_in_laser_plane = [[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]].map(|[c, r]| {
+            let (x, z) = camera
+                .pixel_to_laser_plane(c, r)
+                .expect("the camera images its whole pixel grid from the laser plane");
+            [x, z]
+        });
         Aperture {
             camera,
             sensor_pose: *sensor_pose,
@@ -40,7 +52,38 @@ impl<'a> Aperture<'a> {
             u: sensor_pose.rotation * (a / radius),
             v: sensor_pose.rotation * (b / radius),
             radius,
+            grid_in_laser_plane,
         }
+    }
+
+    /// Whether light that arrives at aperture point `lens` (base frame) along a direction
+    /// within `cone_rad` of the straight line from `x` can land on the pixel grid.
+    ///
+    /// A thin lens images every point of the laser plane onto the Scheimpflug image plane, so
+    /// the pixel a ray arriving at `lens` lands on is the image of the point Q where its line
+    /// meets the laser plane (`image_of_ray` uses any point of the line). The lines within the
+    /// cone meet the plane within R of the straight line's crossing Q₀, where, with h the height
+    /// of `lens` above the plane and a the straight line's angle to it, R ≤ h·(1 + γ)/sin(a − γ)
+    /// − h/sin a (the chord over an arc of γ at a distance ≤ h/sin(a − γ), plus the change of
+    /// that distance). The light can land only if the grid's quadrilateral comes within R of Q₀
+    /// (plus 1 mm). Conservative: `true` whenever the cone reaches parallel to the plane or the
+    /// crossing lies behind the lens.
+    pub fn can_land(&self, x: &Point3<f64>, lens: &Point3<f64>, cone_rad: f64) -> bool {
+        let lens_s = self.inverse_pose * lens;
+        let d = self.inverse_pose.rotation * (lens - x);
+        let dist = d.norm();
+        let d = d / dist;
+        let h = lens_s.y.abs();
+        let sin_a = d.y.abs();
+        let a = sin_a.asin();
+        // The crossing must lie on the scene side of the lens, back along the arriving ray.
+        let back = lens_s.y / d.y;
+        if back.is_nan() || back <= 0.0 || a <= cone_rad + 1e-6 {
+            return true;
+        }
+        let q = lens_s - d * back;
+        let reach = h * (1.0 + cone_rad) / (a - cone_rad).sin() - h / sin_a;
+        distance_to_quad([q.x, q.z], &self.grid_in_laser_plane) <= reach + LANDING_MARGIN_M
     }
 
     /// Aperture area (m²).
@@ -88,5 +131,100 @@ impl<'a> Aperture<'a> {
         let on_ray = self.inverse_pose * (lens - d * 0.5);
         let lens_s = self.inverse_pose * lens;
         self.camera.image_point(&on_ray.coords, &lens_s.coords)
+    }
+}
+
+/// Slack (m, in the laser plane) of [`Aperture::can_land`]: about 5 pixels at mid range.
+const LANDING_MARGIN_M: f64 = 1e-3;
+
+/// Distance (m) from `p` to the convex quadrilateral `quad` (0 inside).
+fn distance_to_quad(p: [f64; 2], quad: &[[f64; 2]; 4]) -> f64 {
+    let cross = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    let sides: Vec<f64> = (0..4)
+        .map(|i| cross(quad[i], quad[(i + 1) % 4], p))
+        .collect();
+    if sides.iter().all(|&s| s >= 0.0) || sides.iter().all(|&s| s <= 0.0) {
+        return 0.0;
+    }
+    (0..4)
+        .map(|i| {
+            let (a, b) = (quad[i], quad[(i + 1) % 4]);
+            let ab = [b[0] - a[0], b[1] - a[1]];
+            let ap = [p[0] - a[0], p[1] - a[1]];
+            let t =
+                ((ap[0] * ab[0] + ap[1] * ab[1]) / (ab[0] * ab[0] + ab[1] * ab[1])).clamp(0.0, 1.0);
+            (ap[0] - t * ab[0]).hypot(ap[1] - t * ab[1])
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sensor::preset::scancontrol_2600_100;
+    use crate::sensor::SensorHead;
+
+    #[test]
+    fn rays_that_land_on_the_grid_are_never_ruled_out() {
+        // For many lens points and directions: whenever `image_of_ray` lands on the grid, the
+        // straight line (cone 0) from a point back along the ray must be allowed to land.
+        let head = SensorHead::new(&scancontrol_2600_100()).unwrap();
+        let pose = Pose::identity();
+        let ap = Aperture::new(&head.camera, &pose);
+        let spec = head.camera.spec();
+        let (mut landed, mut ruled_out) = (0, 0);
+        for i in 0..20_000u64 {
+            let f = |k: u64| ((i * 7919 + k * 104_729) as f64 * 0.618_033_988_749_895).fract();
+            let lens = ap.point([f(1) * 1.4 - 0.7, f(2) * 1.4 - 0.7]);
+            let target = Point3::new(0.2 * f(3) - 0.1, 0.03 * f(4) - 0.015, 0.1 + 0.35 * f(5));
+            let d = (lens - target).normalize();
+            let lands = matches!(ap.image_of_ray(&lens, &d), Some([c, r])
+                if c >= 0.0 && r >= 0.0 && c < spec.columns as f64 && r < spec.rows as f64);
+            let allowed = ap.can_land(&target, &lens, 0.0);
+            landed += lands as usize;
+            ruled_out += !allowed as usize;
+            assert!(allowed || !lands, "ray {i} lands but was ruled out");
+        }
+        assert!(
+            landed > 1000 && ruled_out > 1000,
+            "{landed} landed, {ruled_out} ruled out"
+        );
+    }
+
+    #[test]
+    fn directions_inside_the_cone_that_land_are_never_ruled_out() {
+        // The cone version: any direction within γ of the straight line that lands on the
+        // grid must leave `can_land` true, for cones from 0.1° to 10°.
+        let head = SensorHead::new(&scancontrol_2600_100()).unwrap();
+        let ap = Aperture::new(&head.camera, &Pose::identity());
+        let spec = head.camera.spec();
+        let mut tested = 0;
+        for i in 0..40_000u64 {
+            let f = |k: u64| ((i * 7919 + k * 104_729) as f64 * 0.618_033_988_749_895).fract();
+            let lens = ap.point([f(1) * 1.4 - 0.7, f(2) * 1.4 - 0.7]);
+            let x = Point3::new(0.6 * f(3) - 0.3, 0.2 * f(4) - 0.1, 0.1 + 0.5 * f(5));
+            let cone = (0.1 + 9.9 * f(6)).to_radians();
+            let s = (lens - x).normalize();
+            let (t1, t2) = crate::optics::lambert::orthonormal_basis(&s);
+            let (r, phi) = (cone * f(7).sqrt(), std::f64::consts::TAU * f(8));
+            let d = (s + (t1 * phi.cos() + t2 * phi.sin()) * r.tan()).normalize();
+            let lands = matches!(ap.image_of_ray(&lens, &d), Some([c, r])
+                if c >= 0.0 && r >= 0.0 && c < spec.columns as f64 && r < spec.rows as f64);
+            if lands {
+                tested += 1;
+                assert!(ap.can_land(&x, &lens, cone), "case {i}: lands within {cone} rad");
+            }
+        }
+        assert!(tested > 500, "{tested}");
+    }
+
+    #[test]
+    fn distance_to_a_square() {
+        let q = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(distance_to_quad([0.5, 0.5], &q), 0.0);
+        assert!((distance_to_quad([2.0, 0.5], &q) - 1.0).abs() < 1e-15);
+        assert!((distance_to_quad([2.0, 2.0], &q) - 2f64.sqrt()).abs() < 1e-15);
     }
 }

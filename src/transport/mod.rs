@@ -28,6 +28,7 @@
 //! are bit-identical for any thread count.
 
 pub mod connect;
+pub mod deviation;
 pub mod film;
 pub mod interaction;
 pub mod lens;

@@ -1,6 +1,8 @@
 //! The scene as the tracer sees it: all triangles in the base frame in one BVH, the surface
 //! model of every material at the laser wavelength, and each object's label.
 
+use super::connect::MAX_INTERFACES;
+use super::deviation::DeviationBound;
 use crate::geometry::accel::{SceneAccel, SceneTriangle};
 use crate::optics::lambert::Lambertian;
 use crate::scene::world::{Material, ObjectLabel, World};
@@ -49,6 +51,10 @@ pub struct TraceScene {
     /// Per world object index, the class of the light an opaque object returns directly (no
     /// glass on the path): from its label, and `Target` for the scene's target.
     pub direct_class: Vec<PathClass>,
+    /// How far the scene's glass can bend a camera connection, if it can be bounded: lets the
+    /// tracer skip connections that cannot land on the sensor. `None` solves every one (set it
+    /// to `None` to check that the bound changes nothing).
+    pub deviation: Option<DeviationBound>,
 }
 
 impl TraceScene {
@@ -57,7 +63,7 @@ impl TraceScene {
     pub fn new(world: &World) -> Result<TraceScene, TransportError> {
         let scene = world.source.display().to_string();
         let wavelength_m = world.sensor.laser.wavelength_m;
-        let surfaces = world
+        let surfaces: Vec<SurfaceModel> = world
             .materials
             .iter()
             .map(|m| match &m.material {
@@ -99,10 +105,13 @@ impl TraceScene {
                 }
             })
             .collect();
+        let accel = SceneAccel::build(triangles);
+        let deviation = DeviationBound::of_scene(&accel, &surfaces, MAX_INTERFACES);
         Ok(TraceScene {
-            accel: SceneAccel::build(triangles),
+            accel,
             surfaces,
             direct_class,
+            deviation,
         })
     }
 

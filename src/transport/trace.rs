@@ -58,6 +58,9 @@ pub struct TraceStats {
     pub connections_through_glass: u64,
     /// Connections that found no unblocked path (camera-side shadows).
     pub occluded: u64,
+    /// Connections whose chains through glass were not solved because the scene's deviation
+    /// bound shows that none can land on the pixel grid (`transport::deviation`).
+    pub connections_culled: u64,
     /// Contributions that landed off the pixel grid.
     pub off_sensor: u64,
     /// Photons that entered the aperture along a purely specular chain (glints).
@@ -83,6 +86,7 @@ impl TraceStats {
         self.connections += o.connections;
         self.connections_through_glass += o.connections_through_glass;
         self.occluded += o.occluded;
+        self.connections_culled += o.connections_culled;
         self.off_sensor += o.off_sensor;
         self.glints += o.glints;
         self.truncated += o.truncated;
@@ -439,10 +443,12 @@ impl Tracer<'_> {
             &lens_point,
         );
         self.stats.connections += 1;
-        if connections.iter().all(Option::is_none) {
+        if connections.culled {
+            self.stats.connections_culled += 1;
+        } else if connections.found.iter().all(Option::is_none) {
             self.stats.occluded += 1;
         }
-        for c in connections.into_iter().flatten() {
+        for c in connections.found.into_iter().flatten() {
             let f_cos = match vertex {
                 Connectable::Diffuse { n, albedo } => {
                     let cos = n.dot(&c.dir);
