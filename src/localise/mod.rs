@@ -2,7 +2,8 @@
 //! IV–VI).
 //!
 //! The pipeline is the paper's: each profile, already expressed in the robot base frame B,
-//! gives one Border Identifier Point ([`bip`]); the n BIPs are registered against the model's
+//! gives one Border Identifier Point ([`bip`]: the paper's highest point; [`edge_line`]: the
+//! top of the chain of edge returns); the n BIPs are registered against the model's
 //! border curve M with a point-to-plane ICP ([`icp`]) that starts from the nominal pose T_BM0;
 //! [`metrics`] scores the result as the paper does (pose error, Table 4's task error, and a
 //! contour error over the whole border). [`nearest`] is the exact closest point on a border
@@ -17,6 +18,7 @@
 //!   non-finite points, and reports a badly conditioned fit as `degenerate` instead of a pose.
 
 pub mod bip;
+pub mod edge_line;
 pub mod icp;
 pub mod metrics;
 pub mod nearest;

@@ -6,7 +6,8 @@ use std::str::FromStr;
 use nalgebra::Point3;
 
 use crate::geometry::pose::Pose;
-use crate::localise::bip::{bip_edge_line, bip_highest, EdgeLineSettings};
+use crate::localise::bip::bip_highest;
+use crate::localise::edge_line::{bip_edge_line, EdgeLineSettings};
 use crate::sensor::path_class::PathClass;
 use crate::sensor::profile::Profile;
 
@@ -23,8 +24,8 @@ pub const MIN_HEIGHT_M: f64 = 0.5e-3;
 pub enum BipRule {
     /// The paper's: the highest point above the ground plane.
     Highest,
-    /// The top of the steep line of ground-edge returns (robust to face returns and to
-    /// convex panes); see [`bip_edge_line`].
+    /// The top of the chain of ground-edge returns, climbed from its steepest run (robust to
+    /// face returns, convex panes and arrissed corners); see [`bip_edge_line`].
     EdgeLine,
 }
 

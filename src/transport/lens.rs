@@ -214,7 +214,10 @@ mod tests {
                 if c >= 0.0 && r >= 0.0 && c < spec.columns as f64 && r < spec.rows as f64);
             if lands {
                 tested += 1;
-                assert!(ap.can_land(&x, &lens, cone), "case {i}: lands within {cone} rad");
+                assert!(
+                    ap.can_land(&x, &lens, cone),
+                    "case {i}: lands within {cone} rad"
+                );
             }
         }
         assert!(tested > 500, "{tested}");
