@@ -19,6 +19,7 @@
 
 use nalgebra::{Matrix2, Point3, Vector2, Vector3};
 
+use super::layered::{solve_layered, Interface};
 use super::lens::Aperture;
 use super::scene::TraceScene;
 use crate::geometry::mesh::SurfacePart;
@@ -35,6 +36,10 @@ const FD_STEP_RAD: f64 = 1e-7;
 /// Newton converges when the chain lands this close to the lens point (m).
 const LANDING_TOLERANCE_M: f64 = 1e-10;
 const NEWTON_ITERATIONS: usize = 16;
+/// A closed-form solution through flat panes is accepted when its traced chain lands this close
+/// to the lens point (m): f64 rounding of a ~0.3 m chain is ~1e-16 m; a chain that meets other
+/// surfaces than the seed's lands far away and goes to Newton's method.
+const LAYERED_LANDING_TOLERANCE_M: f64 = 1e-10;
 
 /// The end of a chain of transmissions on the aperture plane.
 #[derive(Clone, Copy, Debug)]
@@ -70,6 +75,25 @@ pub fn follow_chain(
     leaving: u32,
     dir: Vector3<f64>,
 ) -> Option<ChainEnd> {
+    trace_chain(scene, aperture, origin, leaving, dir, None)
+}
+
+/// The interfaces a chain crossed, in order (at most [`MAX_INTERFACES`] + 1).
+#[derive(Clone, Copy, Debug, Default)]
+struct ChainRecord {
+    interfaces: [Interface; MAX_INTERFACES + 1],
+    len: usize,
+}
+
+/// [`follow_chain`], also writing the interfaces it crosses into `record`.
+fn trace_chain(
+    scene: &TraceScene,
+    aperture: &Aperture,
+    origin: Point3<f64>,
+    leaving: u32,
+    dir: Vector3<f64>,
+    mut record: Option<&mut ChainRecord>,
+) -> Option<ChainEnd> {
     let (mut o, mut d, mut leaving) = (origin, dir, leaving);
     let mut stokes = Stokes::unpolarized(&d);
     let mut transmittance = 1.0;
@@ -103,6 +127,14 @@ pub fn follow_chain(
         let f = fresnel_dielectric(cos_i, eta);
         if f.tir {
             return None;
+        }
+        if let Some(r) = record.as_deref_mut() {
+            r.interfaces[r.len] = Interface {
+                point: hit.point,
+                normal: hit.shading_normal,
+                index_before: if entering { 1.0 } else { glass.eta },
+            };
+            r.len += 1;
         }
         stokes.rotate_frame(&d, &s_axis(&d, &n));
         stokes.s = apply(&mueller_transmission(&f), &stokes.s);
@@ -142,7 +174,26 @@ pub fn solve_connection(
         let end = follow_chain(scene, aperture, point, triangle, *w)?;
         Some((Vector2::from(aperture.plane_coords(&end.landing)), end))
     };
-    let mut w = seed.normalize();
+    // Through flat panes: the closed form of `layered`, checked by tracing its direction.
+    let seed = seed.normalize();
+    let mut record = ChainRecord::default();
+    if seed.dot(&ng) * side > 0.0
+        && trace_chain(scene, aperture, point, triangle, seed, Some(&mut record)).is_some()
+    {
+        let crossed = &record.interfaces[..record.len];
+        if let Some(sol) = solve_layered(&point, crossed, lens_point, &aperture.axis) {
+            if let Some((c, end)) = land(&sol.dir) {
+                if (target - c).norm() < LAYERED_LANDING_TOLERANCE_M {
+                    return Some(Connection {
+                        dir: sol.dir,
+                        dw_da: sol.dw_da,
+                        end,
+                    });
+                }
+            }
+        }
+    }
+    let mut w = seed;
     for _ in 0..NEWTON_ITERATIONS {
         let (c0, end) = land(&w)?;
         let (t1, t2) = orthonormal_basis(&w);

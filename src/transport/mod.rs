@@ -31,6 +31,7 @@ pub mod connect;
 pub mod deviation;
 pub mod film;
 pub mod interaction;
+pub mod layered;
 pub mod lens;
 pub mod scene;
 pub mod trace;
