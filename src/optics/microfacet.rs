@@ -91,8 +91,20 @@ impl Ggx {
     /// glass) it is drawn for −wo: the same microsurface seen from inside, where facet m faces
     /// wo when wo·m < 0.
     pub fn sample_visible_normal(&self, wo: &Vector3<f64>, u: [f64; 2]) -> Vector3<f64> {
-        let a = self.alpha;
         let w = if wo.z < 0.0 { -wo } else { *wo };
+        self.sample_visible_normal_from(&w, u)
+    }
+
+    /// Draws a microfacet normal (upper hemisphere) from the normals visible from `w`,
+    /// D_w(m) ∝ max(0, w·m)·D(m), for **any** unit `w` but −z: unlike
+    /// [`Ggx::sample_visible_normal`], a `w` below the horizon is not flipped. The microsurface
+    /// random walk needs this: a ray that leaves a facet downwards in air, or upwards in the
+    /// glass, meets the microsurface again from below its mean plane. Heitz 2018's warp covers
+    /// that case unchanged: for w.z < 0 the projected visible region is the crescent between the
+    /// rim's ellipse and the disk's edge, still reached with the constant Jacobian
+    /// s = (1 + w.z)/2 per chord.
+    pub fn sample_visible_normal_from(&self, w: &Vector3<f64>, u: [f64; 2]) -> Vector3<f64> {
+        let a = self.alpha;
         let vh = Vector3::new(a * w.x, a * w.y, w.z).normalize();
         // Orthonormal basis (t1, t2, vh); any t1 ⊥ z at normal incidence.
         let len2 = vh.x * vh.x + vh.y * vh.y;
@@ -111,6 +123,27 @@ impl Ggx {
         let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * sin_phi;
         let nh = p1 * t1 + p2 * t2 + (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt() * vh;
         Vector3::new(a * nh.x, a * nh.y, nh.z.max(0.0)).normalize()
+    }
+
+    /// Density of [`Ggx::sample_visible_normal_from`] (1/sr in wm): max(0, w·wm)·D(wm)/A(w)
+    /// with the projected area of the microsurface seen from w, A(w) = ∫ max(0, w·m) D dωm =
+    /// cos θ·(1 + Λ(w)) above the horizon and |cos θ|·Λ(w) below it (Heitz et al. 2016, §2:
+    /// Λ(−w) = −1 − Λ(w), the area seen from below being what the top view does not cover).
+    pub fn pdf_visible_normal_from(&self, w: &Vector3<f64>, wm: &Vector3<f64>) -> f64 {
+        let facing = w.dot(wm);
+        if facing <= 0.0 || wm.z <= 0.0 {
+            return 0.0;
+        }
+        let area = if w.z > 0.0 {
+            w.z * (1.0 + self.lambda(w))
+        } else {
+            -w.z * self.lambda(w)
+        };
+        if area.is_finite() && area > 0.0 {
+            facing * self.d(wm) / area
+        } else {
+            0.0
+        }
     }
 
     /// Density of [`Ggx::sample_visible_normal`] (1/sr in wm): G₁(wo)·|wo·wm|·D(wm)/|cos θ_o|

@@ -20,12 +20,19 @@
 //!
 //! Modules: `lambert` (diffuse), `warp` (disks, hemispheres), `fresnel` (s/p coefficients,
 //! TIR, retardance), `refract` (reflect, Snell), `polarization` (Stokes, Mueller),
-//! `microfacet` (GGX and the rough dielectric of ground edges), `slab` (analytic pane R/T/A).
+//! `microfacet` (GGX and the single-scattering rough dielectric), `height_correlated` (its
+//! height-correlated masking-shadowing variant), `microfacet_walk` (its
+//! multiple scattering by Heitz et al.'s microsurface random walk, what ground edges use),
+//! `uniform_stream` (keyed counter-based uniforms for routines that need an unbounded number),
+//! `slab` (analytic pane R/T/A).
 
 pub mod fresnel;
+pub mod height_correlated;
 pub mod lambert;
 pub mod microfacet;
+pub mod microfacet_walk;
 pub mod polarization;
 pub mod refract;
 pub mod slab;
+pub mod uniform_stream;
 pub mod warp;

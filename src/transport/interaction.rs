@@ -1,5 +1,5 @@
 //! What happens to a photon at glass: the Fresnel split at a smooth face (with its Stokes
-//! vector) and microfacet scattering at a rough edge.
+//! vector) and multiple microfacet scattering at a rough edge.
 
 use nalgebra::Vector3;
 
@@ -7,11 +7,12 @@ use super::scene::GlassSurface;
 use crate::geometry::accel::Hit;
 use crate::optics::fresnel::fresnel_dielectric;
 use crate::optics::lambert::orthonormal_basis;
-use crate::optics::microfacet::RoughDielectric;
+use crate::optics::microfacet_walk::MultipleScatteringDielectric;
 use crate::optics::polarization::{
     apply, mueller_reflection, mueller_transmission, s_axis, Stokes,
 };
 use crate::optics::refract::{reflect, refract};
+use crate::optics::uniform_stream::KeyedStream;
 
 /// Outcome of a smooth-face interaction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,21 +88,34 @@ pub struct RoughVertex {
     n: Vector3<f64>,
     /// Direction back towards where the photon came from, local.
     wo: Vector3<f64>,
-    bsdf: RoughDielectric,
+    bsdf: MultipleScatteringDielectric,
+    /// The vertex's random numbers (keyed by seed, pose, photon and depth): one fork for the
+    /// continuation's walk, one for the camera connections' evaluation walks.
+    stream: KeyedStream,
 }
 
+/// Fork tags of a vertex's stream.
+const SAMPLE_STREAM: u64 = 0;
+const EVAL_STREAM: u64 = 1;
+
 impl RoughVertex {
-    /// The vertex of a photon travelling along `dir` that hit the rough edge at `hit`.
-    pub fn new(hit: &Hit, glass: &GlassSurface, dir: &Vector3<f64>) -> Self {
+    /// The vertex of a photon travelling along `dir` that hit the rough edge at `hit`;
+    /// `stream` supplies the microsurface walks' uniforms.
+    pub fn new(hit: &Hit, glass: &GlassSurface, dir: &Vector3<f64>, stream: KeyedStream) -> Self {
         let n = hit.shading_normal;
         let (t, b) = orthonormal_basis(&n);
+        debug_assert!(
+            (t.cross(&b) - n).norm() < 1e-9,
+            "a right-handed frame keeps U and V"
+        );
         let wo = -dir;
         RoughVertex {
             t,
             b,
             n,
             wo: Vector3::new(wo.dot(&t), wo.dot(&b), wo.dot(&n)),
-            bsdf: RoughDielectric::new(glass.edge_alpha, glass.eta),
+            bsdf: MultipleScatteringDielectric::new(glass.edge_alpha, glass.eta),
+            stream,
         }
     }
 
@@ -113,11 +127,15 @@ impl RoughVertex {
         self.t * w.x + self.b * w.y + self.n * w.z
     }
 
-    /// BSDF × |cos θ| towards `wi` (world), for flux carried by photons (the adjoint BSDF).
-    /// The camera does not see polarisation, so the unpolarised Fresnel factor is used.
+    /// BSDF × |cos θ| towards `wi` (world), for flux carried by photons (the adjoint BSDF),
+    /// all orders of microfacet scattering: the single-scattering term in closed form plus an
+    /// unbiased one-walk estimate of the rest (`optics::microfacet_walk`). Every call at this
+    /// vertex replays the same evaluation stream. The camera does not see polarisation, so the
+    /// unpolarised Fresnel factors are used.
     pub fn f_cos(&self, _stokes: &Stokes, wi: &Vector3<f64>) -> f64 {
         let wi = self.local(wi);
-        self.bsdf.f_adjoint(&self.wo, &wi) * wi.z.abs()
+        let mut stream = self.stream.fork(EVAL_STREAM);
+        self.bsdf.f_adjoint_cos(&self.wo, &wi, &mut stream)
     }
 }
 
@@ -132,53 +150,23 @@ pub struct RoughContinuation {
     pub transmitted: bool,
 }
 
-/// Samples where a photon goes after the rough edge (visible-normal sampling of GGX, Walter et
-/// al. 2007 / Heitz 2018). The lobe was chosen with the unpolarised Fresnel factor; the weight
-/// is corrected by the ratio of the polarised to the unpolarised Fresnel factor of the sampled
-/// microfacet, and the Stokes vector takes that microfacet's Mueller matrix.
-pub fn scatter_rough(
-    v: &RoughVertex,
-    stokes: &mut Stokes,
-    uc: f64,
-    u: [f64; 2],
-) -> Option<RoughContinuation> {
-    let s = v.bsdf.sample(&v.wo, uc, u)?;
-    if s.pdf <= 0.0 {
-        return None;
-    }
-    let mut weight = s.f_adjoint * s.wi.z.abs() / s.pdf;
-    // Polarisation at the microfacet: s and p relative to the plane of (wo, wm).
-    let wm = v.world(&s.wm);
-    let dir_in = -v.world(&v.wo);
-    let mut m = if wm.dot(&dir_in) < 0.0 { wm } else { -wm };
-    if m.norm_squared() == 0.0 {
-        m = v.n;
-    }
-    let entering = dir_in.dot(&v.n) < 0.0;
-    let eta = if entering {
-        v.bsdf.eta
-    } else {
-        1.0 / v.bsdf.eta
+/// Samples where a photon goes after the rough edge: the microsurface random walk of Heitz et
+/// al. 2016 (`optics::microfacet_walk`), every order of scattering between the microfacets.
+/// At each facet the Stokes vector takes that facet's Fresnel Mueller matrix and the lobe is
+/// chosen with the polarised probability, so the flux weight is 1. `None` if the walk was cut
+/// at `microfacet_walk::MAX_EVENTS` events.
+pub fn scatter_rough(v: &RoughVertex, stokes: &mut Stokes) -> Option<RoughContinuation> {
+    let mut local = Stokes {
+        s: stokes.s,
+        frame: v.local(&stokes.frame),
     };
-    let f = fresnel_dielectric((-dir_in.dot(&m)).clamp(0.0, 1.0), eta);
-    stokes.rotate_frame(&dir_in, &s_axis(&dir_in, &m));
-    let (mueller, unpolarized) = if s.reflected {
-        (mueller_reflection(&f), f.r())
-    } else {
-        (mueller_transmission(&f), f.t())
-    };
-    let out = apply(&mueller, &stokes.s);
-    if unpolarized > 0.0 && out[0] > 0.0 {
-        weight *= out[0] / unpolarized;
-        stokes.s = out.map(|x| x / out[0]);
-    } else {
-        stokes.depolarize();
-    }
-    let wi = v.world(&s.wi);
-    stokes.rotate_frame(&wi, &s_axis(&wi, &m));
+    let mut stream = v.stream.fork(SAMPLE_STREAM);
+    let s = v.bsdf.sample(&v.wo, &mut stream, Some(&mut local))?;
+    stokes.s = local.s;
+    stokes.frame = v.world(&local.frame);
     Some(RoughContinuation {
-        wi,
-        weight,
+        wi: v.world(&s.wi),
+        weight: s.weight,
         transmitted: !s.reflected,
     })
 }

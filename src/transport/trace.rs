@@ -13,6 +13,7 @@ use crate::geometry::mesh::SurfacePart;
 use crate::geometry::pose::Pose;
 use crate::optics::lambert::Lambertian;
 use crate::optics::polarization::Stokes;
+use crate::optics::uniform_stream::KeyedStream;
 use crate::optics::warp::concentric_disk;
 use crate::sampler::PoseSampler;
 use crate::sensor::path_class::PathClass;
@@ -120,6 +121,7 @@ pub fn render(
                 aperture,
                 settings,
                 sampler: &sampler,
+                pose_index,
                 splats: Vec::new(),
                 stats: TraceStats::default(),
             };
@@ -191,6 +193,8 @@ struct Tracer<'a> {
     aperture: Aperture<'a>,
     settings: &'a TraceSettings,
     sampler: &'a PoseSampler,
+    /// Keys the rough edge's microsurface walks with the seed and the photon.
+    pose_index: u64,
     splats: Vec<Splat>,
     stats: TraceStats,
 }
@@ -255,13 +259,14 @@ impl Tracer<'_> {
             let u = |k: u32| self.sampler.uniform(i, base + k);
             let (uc, u2) = (u(2), [u(3), u(4)]);
             let (u_pick, u_rr) = (u(5), u(6));
+            let walk = KeyedStream::new(&[self.settings.seed, self.pose_index, i, depth as u64]);
 
             let alive = match self.scene.surfaces[hit.material as usize] {
                 SurfaceModel::Lambertian(l) => {
                     self.opaque_vertex(&mut photon, &hit, l, lens_u, u2, u_rr)
                 }
                 SurfaceModel::Glass(g) => {
-                    self.glass_vertex(&mut photon, &hit, &g, lens_u, uc, u2, u_pick)
+                    self.glass_vertex(&mut photon, &hit, &g, lens_u, uc, u2, u_pick, walk)
                 }
             };
             if !alive {
@@ -341,6 +346,7 @@ impl Tracer<'_> {
         uc: f64,
         u2: [f64; 2],
         u_pick: f64,
+        walk: KeyedStream,
     ) -> bool {
         let entering = photon.dir.dot(&hit.geometric_normal) < 0.0;
         if !entering {
@@ -350,7 +356,7 @@ impl Tracer<'_> {
         }
         let rough_edge = hit.part == SurfacePart::Edge && glass.edge_alpha > 0.0;
         if rough_edge {
-            let vertex = RoughVertex::new(hit, glass, &photon.dir);
+            let vertex = RoughVertex::new(hit, glass, &photon.dir, walk);
             self.connect_vertex(
                 photon,
                 hit,
@@ -360,7 +366,7 @@ impl Tracer<'_> {
                 lens_u,
             );
             photon.all_specular = false;
-            return match scatter_rough(&vertex, &mut photon.stokes, uc, u2) {
+            return match scatter_rough(&vertex, &mut photon.stokes) {
                 Some(s) => {
                     photon.flux *= s.weight;
                     photon.leave(hit, s.wi);

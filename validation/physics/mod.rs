@@ -2,6 +2,7 @@
 
 mod firmware;
 mod glass;
+mod multiple_scattering;
 mod optics;
 mod radiometry;
 mod sensor_noise;
