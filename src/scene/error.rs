@@ -202,7 +202,7 @@ pub enum SceneError {
         field: String,
         /// The object named.
         name: String,
-        /// What it is instead (`box`, `mesh`).
+        /// What it is instead (`box`, `mesh`, `tape`, `cover`).
         kind: &'static str,
     },
     /// Two objects share a name.
