@@ -20,7 +20,8 @@ use crate::geometry::panel::{
 };
 
 /// Default face and border tessellation of a panel (mm): a chord error of 5²/(8·1500) ≈ 2 µm on
-/// the R = 1500 mm side window, far below the sensor's ~12 µm resolution (PARAMETERS.md §1c).
+/// the R = 1500 mm side window, far below the sensor's ~12 µm resolution (scenes/README.md,
+/// `tessellation_mm`).
 const DEFAULT_TESSELLATION_MM: f64 = 5.0;
 
 /// The panel spec of `def` (at field path `prefix`), checked value by value, and the panel.

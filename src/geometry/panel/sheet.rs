@@ -146,6 +146,33 @@ pub(super) fn sweep(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::panel::{contour, Outline};
+
+    fn square_rim(side_m: f64) -> Vec<RimPoint> {
+        let outline = Outline::Rectangle {
+            width_m: side_m,
+            height_m: side_m,
+            corner_radius_m: 0.0,
+        };
+        contour::sample(&outline, 0.005).unwrap()
+    }
+
+    #[test]
+    fn deep_rows_close_at_sharp_corners_instead_of_folding() {
+        // Samples every 5 mm; a 20 mm inset would put the samples next to each corner behind
+        // the corner's mitered point.
+        let rim = square_rim(0.1);
+        let row = row(&rim, 0.02, 0.0);
+        check_row(&rim, &row).unwrap();
+        for q in &row {
+            // Every point lies on the 60 mm square the inset outline is.
+            let (x, y) = (q.x.abs(), q.y.abs());
+            assert!(x <= 0.03 + 1e-15 && y <= 0.03 + 1e-15);
+            assert!((x - 0.03).abs() < 1e-15 || (y - 0.03).abs() < 1e-15, "{q}");
+        }
+        // Past the middle the row crosses itself and is refused.
+        assert!(check_row(&rim, &super::row(&rim, 0.06, 0.0)).is_err());
+    }
 
     #[test]
     fn refine_splits_long_segments_evenly_and_keeps_the_points() {
