@@ -1,4 +1,4 @@
-//! Axis-aligned boxes (tables, walls, supports, tape strips, cover blocks), centred on the
+//! Axis-aligned boxes (tables, walls, supports, posts), centred on the
 //! origin of their own frame.
 
 use nalgebra::Point3;

@@ -202,7 +202,7 @@ pub enum SceneError {
         field: String,
         /// The object named.
         name: String,
-        /// What it is instead (`box`, `mesh`).
+        /// What it is instead (`box`, `mesh`, `tape`, `cover`).
         kind: &'static str,
     },
     /// Two objects share a name.
@@ -878,11 +878,11 @@ poses = 4
             "pose = { translation_mm = [0, 0, -10] }",
             "mesh = { file = \"meshes/cube.gltf\" }",
         );
-        assert_message(&m, "bad.toml:23:8: objects[1] must have exactly one of `panel`, `box` or `mesh`, got both `box` and `mesh`");
+        assert_message(&m, "bad.toml:23:8: objects[1] must have exactly one of `panel`, `box`, `mesh`, `tape` or `cover`, got both `box` and `mesh`");
         let m = error_for("box = { size_mm = [1000, 800, 20] }\n", "");
         assert_message(
             &m,
-            "bad.toml:19:1: objects[1] must have exactly one of `panel`, `box` or `mesh`, got none",
+            "bad.toml:19:1: objects[1] must have exactly one of `panel`, `box`, `mesh`, `tape` or `cover`, got none",
         );
     }
 

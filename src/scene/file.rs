@@ -7,7 +7,9 @@
 //! Integers are read as `i64` so that a negative count gets a range message rather than a
 //! type error. Tagged variants use TOML's native enum forms (`"pencil"` or
 //! `{ arrissed = { bevel_mm = 0.5 } }`): serde's internally tagged and untagged enums buffer
-//! their input and would lose the spans.
+//! their input and would lose the spans. The edge finish, which takes a kind either as a name
+//! or as a table, has its own visitor (`edge_def`), which reads the table's value directly
+//! from the TOML deserializer and so keeps the spans too.
 
 use std::collections::BTreeMap;
 
@@ -77,7 +79,7 @@ pub(crate) struct SellmeierDef {
     pub c: [Num; 3],
 }
 
-/// One `[[objects]]` entry: exactly one of `panel`, `box`, `mesh`.
+/// One `[[objects]]` entry: exactly one of `panel`, `box`, `mesh`, `tape`, `cover`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct ObjectDef {
@@ -89,6 +91,10 @@ pub(crate) struct ObjectDef {
     #[serde(rename = "box")]
     pub cuboid: Option<Spanned<BoxDef>>,
     pub mesh: Option<Spanned<MeshDef>>,
+    /// A tape fitted to a panel object of the scene.
+    pub tape: Option<Spanned<TapeDef>>,
+    /// A cover fitted to a panel object of the scene.
+    pub cover: Option<Spanned<CoverDef>>,
     /// Role of the object for path labels (`table`, `background`, `tape`, `cover`, `other`).
     pub label: Option<Spanned<LabelDef>>,
 }
@@ -109,7 +115,7 @@ pub(crate) struct PanelDef {
     pub thickness_mm: Num,
     /// Absent: flat.
     pub curvature: Option<Spanned<CurvatureDef>>,
-    /// Absent: flat ground.
+    /// Absent: seamed, with the default arrisses.
     pub edge: Option<Spanned<EdgeDef>>,
     /// Absent: 5 mm.
     pub tessellation_mm: Option<Num>,
@@ -134,13 +140,80 @@ pub(crate) struct CurvatureDef {
     pub radius_mm: Num,
 }
 
-/// The edge finish: `"flat_ground"`, `"pencil"` or `{ arrissed = { bevel_mm = 0.5 } }`.
-#[derive(Debug, Deserialize)]
-#[serde(rename_all = "snake_case", deny_unknown_fields)]
+/// The edge finish: a kind's name (`"seamed"`, `"flat_ground"`, `"pencil"`) or a one-key
+/// table naming a kind with its parameters (`{ seamed = { … } }`, `{ pencil = { … } }`,
+/// `{ arrissed = { … } }`, `{ section = { … } }`). Read by `edge_def`, which accepts both
+/// forms for one kind (serde's derived enums take a kind either as a name or as a table).
+#[derive(Debug)]
 pub(crate) enum EdgeDef {
     FlatGround,
-    Pencil,
-    Arrissed { bevel_mm: Num },
+    /// `None`: `"seamed"`, every parameter at its default.
+    Seamed(Option<Spanned<SeamedDef>>),
+    Pencil(Option<Spanned<PencilDef>>),
+    Arrissed(Spanned<ArrissedDef>),
+    Section(Spanned<SectionDef>),
+}
+
+/// `{ seamed = { top = { … }, bottom = { … }, fillet_radius_mm } }`; absent keys take the
+/// IGMA/PPG defaults.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SeamedDef {
+    pub top: Option<Spanned<ArrisDef>>,
+    pub bottom: Option<Spanned<ArrisDef>>,
+    /// Absent: 0 (sharp junctions).
+    pub fillet_radius_mm: Option<Num>,
+}
+
+/// One arris: width across the face (mm, ≥ 0) and angle to the face (deg, 30–65).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ArrisDef {
+    pub width_mm: Option<Num>,
+    pub angle_deg: Option<Num>,
+}
+
+/// `{ pencil = { radius_mm } }`; absent: half the thickness.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PencilDef {
+    pub radius_mm: Option<Num>,
+}
+
+/// `{ arrissed = { bevel_mm } }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ArrissedDef {
+    pub bevel_mm: Num,
+}
+
+/// `{ section = { points_mm = [[inset, height], …] } }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SectionDef {
+    pub points_mm: Spanned<Vec<Spanned<[Num; 2]>>>,
+}
+
+/// `tape = { on = "pane", … }`: the tape sheet over a panel object's edge.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct TapeDef {
+    /// The panel object the tape is laid on.
+    pub on: Spanned<String>,
+    pub thickness_mm: Option<Num>,
+    pub gap_mm: Option<Num>,
+    pub onto_face_mm: Option<Num>,
+}
+
+/// `cover = { on = "pane", … }`: the cover on a panel object's top face.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CoverDef {
+    /// The panel object the cover sits on.
+    pub on: Spanned<String>,
+    pub width_mm: Option<Num>,
+    pub height_mm: Option<Num>,
+    pub gap_mm: Option<Num>,
 }
 
 /// A box centred on its pose.

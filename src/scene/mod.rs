@@ -15,11 +15,14 @@
 //! `line:column` of the offending value and its field path (see [`SceneError`]).
 //! Only this module and `dataset` touch the filesystem.
 
+mod edge_def;
 mod error;
 mod file;
+mod fitted;
 pub mod gltf_mesh;
 mod load;
 mod material;
+mod panel;
 mod sensor_overrides;
 pub mod world;
 

@@ -18,7 +18,7 @@ pub(super) const MAX_ARC_STEP: f64 = std::f64::consts::PI / 18.0;
 /// Longest miter accepted at a sharp corner, in units of the inset: the default of SVG's
 /// `stroke-miterlimit` (SVG 1.1, §11.4), reached at an interior angle of 29° (or 331°). Beyond
 /// it the inset corner reaches far along a thin spike or notch and the edge band degenerates.
-const MITER_LIMIT: f64 = 4.0;
+pub(super) const MITER_LIMIT: f64 = 4.0;
 
 /// Shortest polygon edge accepted, and shortest rounding arc made (m).
 const MIN_EDGE_M: f64 = 1e-9;
@@ -54,6 +54,17 @@ impl RimPoint {
     /// Whether the outline has a corner here (different normals on the two sides).
     pub(super) fn is_sharp(&self) -> bool {
         self.normal_in != self.normal_out
+    }
+
+    /// The flat point at `inset_m` from the outline on this rim point's inset line. The face
+    /// boundary (`face_inset_m`) uses the exact face point the face tessellation shares, which
+    /// keeps the mesh watertight; other insets are computed from the outline.
+    pub(super) fn at_inset(&self, inset_m: f64, face_inset_m: f64) -> Point2<f64> {
+        if inset_m == face_inset_m {
+            self.face
+        } else {
+            self.outline - self.miter * inset_m
+        }
     }
 
     /// The point at fraction `t` of the segment from `self` to `next`, with the face point
@@ -278,7 +289,7 @@ fn right(e: &Vector2<f64>) -> Vector2<f64> {
 
 /// Number of equal segments for a span of `ratio` segment lengths (at least one); the margin
 /// keeps an exact multiple such as 90°/10° from rounding up to one segment more.
-fn segments(ratio: f64) -> usize {
+pub(super) fn segments(ratio: f64) -> usize {
     ((ratio - 1e-9).ceil() as usize).max(1)
 }
 

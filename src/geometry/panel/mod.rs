@@ -1,5 +1,7 @@
 //! Procedural glass panel: outline, thickness, flat or cylindrically curved, with an edge
-//! profile (flat ground, arrissed, pencil/C). Yields the triangle mesh and the border curve.
+//! finish (seamed by default; flat ground, arrissed, pencil, or any polyline section). Yields
+//! the triangle mesh and the border curve, and the objects fitted to a panel's true section:
+//! the tape and the cover of the paper's edge experiment.
 //!
 //! Model frame: the outline is centred on the origin in the x–y plane; the bottom face is at
 //! z = 0 and the top face at z = thickness (at x = 0 for a curved panel). A cylindrical panel
@@ -9,24 +11,36 @@
 //!
 //! Build steps, one submodule each: `contour` samples the outline (arcs at most 10° and
 //! `tessellation_m` per segment, straight edges resampled) with outward normals and miters,
-//! after `polygon` has checked a user polygon; `edge` gives the edge cross-section, whose first
-//! and last points share one inset d₀, so the top face (at height t) and the bottom face (at 0)
-//! are the same polygon, the outline inset by d₀; `face` cuts that polygon with a square grid,
-//! inserting the grid crossings into the rim, and `triangulate`s the pieces; `edge` sweeps the
-//! section along the refined rim; `bend` maps everything through the cylinder. Units are
-//! metres throughout.
+//! after `polygon` has checked a user polygon; `edge` gives the edge cross-section (from
+//! `profile`'s kinds by `seamed`, `fillet`, `pencil` and `custom`), whose top and bottom face
+//! boundaries may sit at different insets: both faces are the one polygon at the larger inset
+//! d₀, and the face with the smaller one gets a face strip out to its boundary; `face` cuts
+//! that polygon with a square grid, inserting the grid crossings into the rim, and
+//! `triangulate`s the pieces; `edge` sweeps the section along the refined rim; `bend` maps
+//! everything through the cylinder. `sheet` sweeps open or closed flat-shaded profiles along
+//! the same rim for `tape` and `cover`. Units are metres throughout.
 //!
 //! Invariants of the result: the mesh is closed and watertight by position (every edge, with
 //! vertices compared exactly, is shared by two triangles; vertices are duplicated only where
-//! normals differ: face/edge seams, arrisses, sharp corners); triangles wind outward; normals
-//! are unit and smooth within a surface part (faces: the bent ±z; edge: the section normal
-//! rotated with the bend). The border curve runs through the top-face rim vertices.
+//! normals differ: face/edge seams, facet junctions, sharp corners); triangles wind outward;
+//! normals are unit, smooth within an arc and flat within a flat facet (faces: the bent ±z;
+//! edge: the section normal rotated with the bend). The border curve runs through mesh
+//! vertices: the top face's true boundary (top of the top arris, a fillet's tangent point with
+//! the face, a pencil arc's meeting point with the face).
 
 mod bend;
 mod contour;
+mod cover;
+mod custom;
 mod edge;
 mod face;
+mod fillet;
+mod pencil;
 mod polygon;
+mod profile;
+mod seamed;
+mod sheet;
+mod tape;
 #[cfg(test)]
 mod tests;
 mod triangulate;
@@ -35,8 +49,15 @@ use nalgebra::{Point3, Vector3};
 
 use super::border::{BorderCurve, BorderVertex};
 use super::mesh::{Mesh, SurfacePart};
+use contour::RimPoint;
+pub use cover::{build_cover, CoverSpec};
 use edge::EdgeSection;
 use face::FacePatch;
+pub use profile::{
+    Arris, EdgeProfile, Seamed, DEFAULT_ARRIS_ANGLE_RAD, DEFAULT_ARRIS_WIDTH_M,
+    MAX_ARRIS_ANGLE_RAD, MIN_ARRIS_ANGLE_RAD,
+};
+pub use tape::{build_tape, TapeSpec};
 
 /// The panel outline in the flat (unbent) x–y plane.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,20 +91,6 @@ pub enum Curvature {
         /// Radius of the bottom face (m).
         radius_m: f64,
     },
-}
-
-/// Cross-section of the edge finish (terms from PARAMETERS.md §3, CGC edge finishes).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum EdgeProfile {
-    /// Flat ground (seamed) edge: a wall perpendicular to the faces.
-    FlatGround,
-    /// Flat edge whose two corners are cut by 45° bevels of leg `bevel_m` (arrissed).
-    Arrissed {
-        /// Leg of the 45° bevel (m), 0 < bevel < thickness/2.
-        bevel_m: f64,
-    },
-    /// Pencil / C edge: a half circle of radius thickness/2.
-    Pencil,
 }
 
 /// Everything needed to build a panel.
@@ -120,8 +127,18 @@ pub enum PanelError {
     /// A parameter is out of its range.
     #[error("{field} {message}")]
     InvalidParameter {
-        /// The spec field (scene-file name, e.g. `corner_radius_mm`).
+        /// The spec field (scene-file name, e.g. `corner_radius_mm`, `seamed.top.angle_deg`).
         field: &'static str,
+        /// What was expected and what was given.
+        message: String,
+    },
+    /// One point of a list is out of its range or inconsistent with its neighbours.
+    #[error("{field}[{index}] {message}")]
+    InvalidPoint {
+        /// The spec field of the list (scene-file name, e.g. `section.points_mm`).
+        field: &'static str,
+        /// Index of the point, from 0.
+        index: usize,
         /// What was expected and what was given.
         message: String,
     },
@@ -134,6 +151,22 @@ const MAX_CELLS: f64 = 1_048_576.0;
 /// Builds the triangle mesh and the border curve of the panel `spec` describes, in its model
 /// frame, after checking every parameter.
 pub fn build_panel(spec: &PanelSpec) -> Result<Panel, PanelError> {
+    let (section, patch) = prepare(spec)?;
+    let t = spec.thickness_m;
+    let mut mesh = MeshBuilder::default();
+    add_faces(&mut mesh, &patch, t, &spec.curvature);
+    edge::add_band(&mut mesh, &patch.rim, &section, &spec.curvature);
+    let border = border_curve(&patch.rim, &section, t, &spec.curvature);
+    Ok(Panel {
+        mesh: mesh.finish(),
+        border,
+    })
+}
+
+/// Checks `spec` and builds what the panel and the objects fitted to it share: the edge
+/// section and the face tessellation, whose rim (every grid crossing inserted) the edge band,
+/// the border curve, the tape and the cover all run along.
+fn prepare(spec: &PanelSpec) -> Result<(EdgeSection, FacePatch), PanelError> {
     let (t, s) = (spec.thickness_m, spec.tessellation_m);
     require_positive("thickness_mm", t)?;
     require_positive("tessellation_mm", s)?;
@@ -146,20 +179,21 @@ pub fn build_panel(spec: &PanelSpec) -> Result<Panel, PanelError> {
         );
         return Err(invalid("tessellation_mm", message));
     }
-    let section = EdgeSection::new(spec.edge, t, s)?;
+    let section = EdgeSection::new(&spec.edge, t, s)?;
     let mut rim = contour::sample(&spec.outline, s)?;
     if let Curvature::Cylindrical { radius_m } = spec.curvature {
         let half_width = rim.iter().map(|p| p.outline.x.abs()).fold(0.0, f64::max);
         check_bend_radius(radius_m, half_width)?;
     }
-    let inset = section.face_inset_m();
-    let r = corner_radius(&spec.outline);
-    if r > 0.0 && r <= inset {
-        // A convex arc tighter than the inset would turn inside out on the face boundary.
-        let message = format!("must be 0 or > the edge finish's face inset {inset} m, got {r} m");
-        return Err(invalid("corner_radius_mm", message));
+    let deepest = section.max_inset_m();
+    check_corner_radius(&spec.outline, deepest, "corner_radius_mm")?;
+    if deepest > section.face_inset_m() {
+        // A groove deeper than the faces' inset must fit the outline too.
+        contour::inset(&mut rim.clone(), deepest)
+            .map_err(|message| invalid(section.inset_field(), message))?;
     }
-    contour::inset(&mut rim, inset).map_err(|message| invalid(section.inset_field(), message))?;
+    contour::inset(&mut rim, section.face_inset_m())
+        .map_err(|message| invalid(section.inset_field(), message))?;
     let rim = contour::limit_face_segments(&rim, s);
     let patch = face::tessellate(&rim, s).ok_or_else(|| {
         invalid(
@@ -167,14 +201,30 @@ pub fn build_panel(spec: &PanelSpec) -> Result<Panel, PanelError> {
             format!("{s} m: could not place the face grid in general position"),
         )
     })?;
-    let mut mesh = MeshBuilder::default();
-    add_faces(&mut mesh, &patch, t, &spec.curvature);
-    edge::add_band(&mut mesh, &patch.rim, &section, &spec.curvature);
-    let border = border_curve(&patch, t, &spec.curvature);
-    Ok(Panel {
-        mesh: mesh.finish(),
-        border,
-    })
+    Ok((section, patch))
+}
+
+/// A convex rounded corner tighter than an inset would turn inside out at that inset: the
+/// corner radius must be 0 or larger than `inset_m`. `field` is reported.
+fn check_corner_radius(
+    outline: &Outline,
+    inset_m: f64,
+    field: &'static str,
+) -> Result<(), PanelError> {
+    let r = corner_radius(outline);
+    if r > 0.0 && r <= inset_m {
+        let message = if field == "corner_radius_mm" {
+            format!("must be 0 or > the edge finish's deepest inset {inset_m} m, got {r} m")
+        } else {
+            format!(
+                "reaches {inset_m} m in from the outline, past the outline's corner radius \
+                 {r} m (the corners would turn inside out); use a smaller value, or a corner \
+                 radius of 0 or > {inset_m} m"
+            )
+        };
+        return Err(invalid(field, message));
+    }
+    Ok(())
 }
 
 /// Width and height (m) of the outline's bounding box; not finite for malformed input, which the
@@ -254,21 +304,26 @@ fn add_faces(mesh: &mut MeshBuilder, patch: &FacePatch, t: f64, curvature: &Curv
     }
 }
 
-/// The border curve through the top-face rim vertices, with the rim's smooth tangent (at a sharp
-/// corner, perpendicular to the bisecting normal) and the top face's normal, bent.
-fn border_curve(patch: &FacePatch, t: f64, curvature: &Curvature) -> BorderCurve {
-    let vertices = patch
-        .rim
+/// The border curve: the top face's true boundary (the section's first point) along the rim,
+/// through the band's vertices there, with the rim's smooth tangent (at a sharp corner,
+/// perpendicular to the bisecting normal) and the top face's normal, bent.
+fn border_curve(
+    rim: &[RimPoint],
+    section: &EdgeSection,
+    t: f64,
+    curvature: &Curvature,
+) -> BorderCurve {
+    let vertices = rim
         .iter()
         .map(|p| {
             let n = (p.normal_in + p.normal_out).normalize();
-            let u = p.face.x;
+            let q = p.at_inset(section.border_inset_m(), section.face_inset_m());
             let tangent = curvature
-                .bend_direction(u, Vector3::new(-n.y, n.x, 0.0))
+                .bend_direction(q.x, Vector3::new(-n.y, n.x, 0.0))
                 .normalize();
-            let surface_normal = curvature.bend_direction(u, Vector3::z()).normalize();
+            let surface_normal = curvature.bend_direction(q.x, Vector3::z()).normalize();
             BorderVertex {
-                position: curvature.bend_point(u, p.face.y, t),
+                position: curvature.bend_point(q.x, q.y, t),
                 tangent,
                 surface_normal,
                 outward: tangent.cross(&surface_normal),

@@ -1,5 +1,7 @@
-//! Whole-panel checks: closed watertight meshes, enclosed volume against the analytic value,
-//! outward normals, the border curve's length and frames, and parameter errors.
+//! Whole-panel checks for every edge kind (flat and curved, sharp and filleted junctions,
+//! equal and unequal face insets): closed watertight meshes, enclosed volume against the
+//! analytic value, outward normals, the border curve's length, frames and place on the mesh,
+//! and parameter errors.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -14,7 +16,8 @@ const FLAT: Curvature = Curvature::Flat;
 const GROUND: EdgeProfile = EdgeProfile::FlatGround;
 const BEVEL: f64 = 0.001;
 const ARRIS: EdgeProfile = EdgeProfile::Arrissed { bevel_m: BEVEL };
-const PENCIL: EdgeProfile = EdgeProfile::Pencil;
+const PENCIL: EdgeProfile = EdgeProfile::Pencil { radius_m: None };
+const FILLET: f64 = 0.2e-3;
 
 fn rect(w: f64, h: f64, r: f64) -> Outline {
     Outline::Rectangle {
@@ -130,14 +133,61 @@ fn check_closed_mesh(panel: &Panel) {
     }
 }
 
-/// Edge profiles with the cross-section area each removes from the square edge: an arris two
-/// b²/2 triangles, a pencil edge a t/2 × t rectangle less a half disc of radius t/2. Times the
-/// outline length, that is the volume removed (Pappus, to first order in the corner curvature).
-fn profiles() -> [(EdgeProfile, f64); 3] {
-    [
+fn seamed(top_width_m: f64, bottom_width_m: f64, fillet_radius_m: f64) -> EdgeProfile {
+    let arris = |width_m| Arris {
+        width_m,
+        ..Arris::default()
+    };
+    EdgeProfile::Seamed(Seamed {
+        top: arris(top_width_m),
+        bottom: arris(bottom_width_m),
+        fillet_radius_m,
+    })
+}
+
+fn section_mm(points: &[[f64; 2]]) -> EdgeProfile {
+    EdgeProfile::Section {
+        points_m: points.iter().map(|p| p.map(|c| c * 1e-3)).collect(),
+    }
+}
+
+/// Area (m²) a fillet of radius ρ removes at a sharp junction turning by θ: between the two
+/// tangent legs ρ·tan(θ/2) and the arc, ρ²·(tan(θ/2) − θ/2).
+fn fillet_area(theta: f64) -> f64 {
+    FILLET * FILLET * ((0.5 * theta).tan() - 0.5 * theta)
+}
+
+/// Edge profiles with the cross-section area each removes from the square edge: an arris of
+/// width w at 45° a w²/2 triangle, fillets their `fillet_area`, a pencil arc of radius r over
+/// ±ψ (sin ψ = t/2r) r²·(2 sin ψ − ψ − sin ψ cos ψ) (the half round: (2 − π/2)·(t/2)²), a
+/// polyline the trapezoids between it and the outline. Times the outline length, that is the
+/// volume removed (Pappus, to first order in the corner curvature).
+fn profiles() -> Vec<(EdgeProfile, f64)> {
+    let w = DEFAULT_ARRIS_WIDTH_M;
+    let (r, psi) = (0.003, (T / 0.006).asin());
+    vec![
         (GROUND, 0.0),
         (ARRIS, BEVEL * BEVEL),
         (PENCIL, (2.0 - PI / 2.0) * (T / 2.0) * (T / 2.0)),
+        (EdgeProfile::default(), w * w),
+        // Four 45° junctions, filleted.
+        (seamed(w, w, FILLET), w * w + 4.0 * fillet_area(PI / 4.0)),
+        // No top arris: the top corner is sharp, the faces' insets differ.
+        (seamed(0.0, w, 0.0), w * w / 2.0),
+        // The same filleted: a 90° face/wall fillet at the top, two 45° ones at the bottom.
+        (
+            seamed(0.0, w, FILLET),
+            w * w / 2.0 + fillet_area(PI / 2.0) + 2.0 * fillet_area(PI / 4.0),
+        ),
+        (
+            EdgeProfile::Pencil { radius_m: Some(r) },
+            r * r * (2.0 * psi.sin() - psi - psi.sin() * psi.cos()),
+        ),
+        (
+            section_mm(&[[0.6, 4.0], [0.0, 3.4], [0.0, 0.6], [0.6, 0.0]]),
+            0.36e-6,
+        ),
+        (section_mm(&[[0.0, 4.0], [0.0, 1.0], [1.0, 0.0]]), 0.5e-6),
     ]
 }
 
@@ -175,7 +225,7 @@ fn concave_l_shape_is_closed_sharp_and_rounded() {
         let area = area - 4.0 * (1.0 - PI / 4.0) * r * r;
         let perimeter = 1.4 - 6.0 * (2.0 - PI / 2.0) * r;
         for (edge, removed) in profiles() {
-            let panel = build(l_shape(r), edge, FLAT);
+            let panel = build(l_shape(r), edge.clone(), FLAT);
             check_closed_mesh(&panel);
             check_border_frames(&panel.border);
             let expected = area * T - removed * perimeter;
@@ -195,7 +245,7 @@ fn arrissed_and_pencil_edges_remove_their_profile_volume() {
         2.0 * (w + h) - (8.0 - 2.0 * PI) * r,
     );
     for (edge, removed) in profiles() {
-        let panel = build(rect(w, h, r), edge, FLAT);
+        let panel = build(rect(w, h, r), edge.clone(), FLAT);
         check_closed_mesh(&panel);
         let v = volume(&panel.mesh);
         assert!((v / (area * T) - 1.0).abs() < 5e-3, "{edge:?}");
@@ -209,8 +259,8 @@ fn arrissed_and_pencil_edges_remove_their_profile_volume() {
 #[test]
 fn curved_panel_is_closed_with_top_face_on_its_cylinder() {
     let radius = 1.5;
-    for edge in [GROUND, ARRIS, PENCIL] {
-        let panel = build(rect(0.55, 0.42, 0.02), edge, bend(radius));
+    for (edge, _) in profiles() {
+        let panel = build(rect(0.55, 0.42, 0.02), edge.clone(), bend(radius));
         check_closed_mesh(&panel);
         let mesh = &panel.mesh;
         for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
@@ -236,6 +286,9 @@ fn curved_l_shape_is_closed() {
     check_closed_mesh(&build(l_shape(0.01), PENCIL, bend(0.3)));
     let wide_arris = EdgeProfile::Arrissed { bevel_m: 0.0015 };
     check_closed_mesh(&build(l_shape(0.0), wide_arris, bend(0.3)));
+    for (edge, _) in profiles() {
+        check_closed_mesh(&build(l_shape(0.01), edge, bend(0.3)));
+    }
 }
 
 #[test]
@@ -352,7 +405,9 @@ fn rejected_field(tweak: impl Fn(&mut PanelSpec)) -> &'static str {
     let mut s = spec(rect(0.55, 0.42, 0.02), GROUND, FLAT);
     tweak(&mut s);
     match build_panel(&s) {
-        Err(PanelError::InvalidParameter { field, .. }) => field,
+        Err(
+            PanelError::InvalidParameter { field, .. } | PanelError::InvalidPoint { field, .. },
+        ) => field,
         Ok(_) => "built",
     }
 }
@@ -391,18 +446,48 @@ fn bad_parameters_name_their_scene_field() {
     expect("built", |s| s.outline = polygon(&triangle, 0.02));
     // A pencil edge insets the faces by t/2 = 2 mm: a 1 mm corner radius cannot carry it, nor
     // can a strip 3 mm wide, nor a sharp 11° corner (its miter exceeds the limit).
-    let pencil = PENCIL;
     expect("corner_radius_mm", |s| {
-        (s.edge, s.outline) = (pencil, rect(0.55, 0.42, 0.001))
+        (s.edge, s.outline) = (PENCIL, rect(0.55, 0.42, 0.001))
     });
     expect("thickness_mm", |s| {
-        (s.edge, s.outline) = (pencil, rect(0.2, 0.003, 0.0))
+        (s.edge, s.outline) = (PENCIL, rect(0.2, 0.003, 0.0))
     });
     let spike = [[0.0, 0.0], [0.1, 0.0], [0.0, 0.02]];
     expect("thickness_mm", |s| {
-        (s.edge, s.outline) = (pencil, polygon(&spike, 0.0))
+        (s.edge, s.outline) = (PENCIL, polygon(&spike, 0.0))
     });
-    expect("built", |s| s.edge = pencil);
+    expect("built", |s| s.edge = PENCIL);
+    // The new kinds name their own fields.
+    expect("seamed.top.angle_deg", |s| {
+        s.edge = EdgeProfile::Seamed(Seamed {
+            top: Arris {
+                angle_rad: 70f64.to_radians(),
+                ..Arris::default()
+            },
+            ..Seamed::default()
+        })
+    });
+    expect("seamed", |s| s.edge = seamed(2e-3, 2e-3, 0.0));
+    expect("seamed.fillet_radius_mm", |s| {
+        s.edge = seamed(0.8e-3, 0.8e-3, 3e-3)
+    });
+    expect("pencil.radius_mm", |s| {
+        s.edge = EdgeProfile::Pencil {
+            radius_m: Some(1e-3),
+        }
+    });
+    expect("section.points_mm", |s| {
+        s.edge = section_mm(&[[0.0, 4.0], [0.0, 4.5], [0.0, 0.0]])
+    });
+    // The seamed default insets the faces by 0.8 mm: a corner radius of 0.5 mm cannot hold
+    // it, and neither can a groove 25 mm deep a corner radius of 20 mm.
+    expect("corner_radius_mm", |s| {
+        (s.edge, s.outline) = (EdgeProfile::default(), rect(0.55, 0.42, 0.5e-3))
+    });
+    expect("corner_radius_mm", |s| {
+        s.edge = section_mm(&[[0.0, 4.0], [25.0, 2.0], [0.0, 0.0]])
+    });
+    expect("built", |s| s.edge = EdgeProfile::default());
 }
 
 #[test]
@@ -411,4 +496,84 @@ fn error_message_says_expected_and_got() {
     s.thickness_m = -0.004;
     let err = build_panel(&s).unwrap_err();
     assert_eq!(err.to_string(), "thickness_mm must be > 0, got -0.004 m");
+}
+
+#[test]
+fn border_runs_through_mesh_vertices_at_the_top_face_boundary() {
+    // Sharp-cornered rectangle: a point's inset is its distance to the nearer side.
+    let (w, h) = (0.3, 0.2);
+    let inset = |p: &Point3<f64>| (0.5 * w - p.x.abs()).min(0.5 * h - p.y.abs());
+    let seam = DEFAULT_ARRIS_WIDTH_M;
+    let cases = [
+        (EdgeProfile::default(), seam),
+        // The fillet's tangent point with the face: r·tan(22.5°) inside the arris top.
+        (seamed(seam, seam, FILLET), seam + FILLET * (PI / 8.0).tan()),
+        (seamed(0.0, seam, 0.0), 0.0),
+        (seamed(0.0, seam, FILLET), FILLET),
+        (PENCIL, T / 2.0),
+        (
+            EdgeProfile::Pencil {
+                radius_m: Some(0.003),
+            },
+            0.003 - (0.003f64.powi(2) - (T / 2.0).powi(2)).sqrt(),
+        ),
+        (section_mm(&[[0.0, 4.0], [0.0, 1.0], [1.0, 0.0]]), 0.0),
+        (GROUND, 0.0),
+    ];
+    for (edge, expected) in cases {
+        let panel = build(rect(w, h, 0.0), edge.clone(), FLAT);
+        let vertices: std::collections::HashSet<[u64; 3]> = panel
+            .mesh
+            .positions
+            .iter()
+            .map(|p| [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits()))
+            .collect();
+        check_border_frames(&panel.border);
+        for v in &panel.border.vertices {
+            let p = v.position;
+            assert!(
+                vertices.contains(&[p.x, p.y, p.z].map(|c| (c + 0.0).to_bits())),
+                "{edge:?}: border vertex {p} is not a mesh vertex"
+            );
+            assert_eq!(p.z, T);
+            assert!(
+                (inset(&p) - expected).abs() < 1e-15,
+                "{edge:?}: {}",
+                inset(&p)
+            );
+        }
+    }
+}
+
+#[test]
+fn only_the_ground_finish_is_tagged_edge() {
+    // With unequal face insets the strip out to the smaller one is glass face, at the face's
+    // height, facing up (top) or down (bottom).
+    for (edge, strip) in [
+        (
+            seamed(0.0, DEFAULT_ARRIS_WIDTH_M, 0.0),
+            SurfacePart::TopFace,
+        ),
+        (
+            seamed(DEFAULT_ARRIS_WIDTH_M, 0.0, 0.0),
+            SurfacePart::BottomFace,
+        ),
+    ] {
+        let panel = build(rect(0.1, 0.08, 0.0), edge, FLAT);
+        let mesh = &panel.mesh;
+        let (height, normal_z) = if strip == SurfacePart::TopFace {
+            (T, 1.0)
+        } else {
+            (0.0, -1.0)
+        };
+        for (i, t) in mesh.triangles.iter().enumerate() {
+            let on_face_plane = t.iter().all(|&k| mesh.positions[k as usize].z == height);
+            if on_face_plane {
+                assert_eq!(mesh.parts[i], strip);
+                assert!((mesh.face_normal(i).z - normal_z).abs() < 1e-12);
+            } else if mesh.parts[i] == strip {
+                panic!("triangle {i} tagged {strip:?} off the face plane");
+            }
+        }
+    }
 }
