@@ -7,22 +7,26 @@
 //! - `edge_study_bare_pose0`: the rough-surface irradiance of `scenes/edge_study_bare.toml`'s
 //!   first pose, traced once with 2¹⁸ photons (seed 1) before timing.
 //!
+//! and the whole lens stage of a pose (`scan::simulate::apply_lens_psf`: speckle or blur,
+//! glints, class shares, on every class layer) on the traced pose, speckle on and off.
+//!
 //! Fixed seeds; throughput in image pixels per second.
 
 use std::path::Path;
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use glassscan::sampler::PoseSampler;
-use glassscan::scan::poses::plan_border_scan;
+use glassscan::scan::poses::{plan_border_scan, ScanPose};
+use glassscan::scan::simulate::apply_lens_psf;
 use glassscan::scene;
 use glassscan::sensor::diffraction::AiryPsf;
 use glassscan::sensor::image::Image;
 use glassscan::sensor::path_class::PathClass;
 use glassscan::sensor::SensorHead;
-use glassscan::transport::{render, TraceScene, TraceSettings};
+use glassscan::transport::{render, Irradiance, TraceScene, TraceSettings};
 
-/// The scene's sensor head and the traced irradiance of its first pose, glints left out.
-fn traced_rough(name: &str, photons: u64) -> (SensorHead, Image<f64>) {
+/// The scene's sensor head, its first pose and that pose's traced irradiance.
+fn traced_pose(name: &str, photons: u64) -> (SensorHead, ScanPose, Irradiance) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
@@ -40,12 +44,17 @@ fn traced_rough(name: &str, photons: u64) -> (SensorHead, Image<f64>) {
         seed: 1,
     };
     let (irradiance, _) = render(&trace, &head, &pose.sensor, &settings, pose.index as u64);
+    (head, pose, irradiance)
+}
+
+/// The rough-surface light of `irradiance`: every class but glints.
+fn rough_light(irradiance: &Irradiance) -> Image<f64> {
     let mut rough = irradiance.total.clone();
     let glint = &irradiance.by_class[PathClass::Glint.index()];
     for (r, g) in rough.data.iter_mut().zip(&glint.data) {
         *r = (*r - g).max(0.0);
     }
-    (head, rough)
+    rough
 }
 
 /// A laser line across every column of a `w` × `h` image.
@@ -65,7 +74,8 @@ fn synthetic_line(w: usize, h: usize) -> Image<f64> {
 }
 
 fn bench(c: &mut Criterion) {
-    let (head, traced) = traced_rough("edge_study_bare.toml", 1 << 18);
+    let (head, pose, irradiance) = traced_pose("edge_study_bare.toml", 1 << 18);
+    let traced = rough_light(&irradiance);
     let cam = &head.camera;
     let speckle = head.config.speckle.expect("the preset has speckle on");
     let psf = AiryPsf::new(
@@ -98,6 +108,25 @@ fn bench(c: &mut Criterion) {
         });
         g.bench_function(format!("{label}/incoherent_blur"), |b| {
             b.iter(|| psf.blur(image))
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("lens_stage");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements((spec.columns * spec.rows) as u64));
+    let mut config = head.config.clone();
+    config.speckle = None;
+    let head_off = SensorHead::new(&config).expect("preset camera");
+    for (label, h) in [("speckle_on", &head), ("speckle_off", &head_off)] {
+        g.bench_function(format!("edge_study_bare_pose0/{label}"), |b| {
+            b.iter_batched(
+                || irradiance.clone(),
+                |mut irr| {
+                    apply_lens_psf(&mut irr, h, &pose, 1);
+                    irr
+                },
+                BatchSize::LargeInput,
+            )
         });
     }
     g.finish();

@@ -55,7 +55,10 @@ const SPECKLE_STREAM: u64 = 0x5bec_1e00_0000_0000;
 /// tracer left dark (where the pixel's own mix, used before, had none). Where P∗I = 0 no
 /// light can reach and any FFT rounding residue is dropped. Every pixel's layers sum to its
 /// total: the total is their sum.
-fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPose, seed: u64) {
+///
+/// This is [`trace_pose`]'s stage after the transport (public for the benchmark); `seed` and
+/// `pose.index` key the speckle phases.
+pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPose, seed: u64) {
     let cam = &head.camera;
     let speckle = head.config.speckle;
     let psf = AiryPsf::new(
@@ -65,65 +68,54 @@ fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPos
         speckle.map_or(DIFFRACTION_OVERSAMPLING, |s| s.oversampling),
     );
     let glint = PathClass::Glint.index();
-    let blurred: Vec<Image<f64>> = irradiance
-        .by_class
-        .iter()
-        .map(|layer| {
-            if layer.data.iter().all(|&v| v == 0.0) {
-                layer.clone()
-            } else {
-                psf.blur(layer)
-            }
-        })
-        .collect();
     let (w, h) = (irradiance.total.width, irradiance.total.height);
-    match speckle {
-        None => irradiance.by_class = blurred,
+    let lit = |layer: &Image<f64>| layer.data.iter().any(|&v| v != 0.0);
+    // ratio: what multiplies a class's blurred light (1 without speckle).
+    let ratio = match speckle {
+        None => None,
         Some(settings) => {
             let mut rough = Image::<f64>::new(w, h);
-            let mut mean = Image::<f64>::new(w, h);
-            for (k, (layer, blur)) in irradiance.by_class.iter().zip(&blurred).enumerate() {
-                if k != glint {
+            for (k, layer) in irradiance.by_class.iter().enumerate() {
+                if k != glint && lit(layer) {
                     rough
                         .data
                         .iter_mut()
                         .zip(&layer.data)
                         .for_each(|(r, v)| *r += v);
-                    mean.data
-                        .iter_mut()
-                        .zip(&blur.data)
-                        .for_each(|(m, v)| *m += v);
                 }
             }
-            let speckled = if rough.data.iter().any(|&v| v > 0.0) {
-                speckle_image(
-                    &rough,
-                    &psf,
-                    settings.contrast,
-                    &PoseSampler::new(seed, SPECKLE_STREAM ^ pose.index as u64),
-                )
-            } else {
-                rough
-            };
-            for (k, (layer, blur)) in irradiance.by_class.iter_mut().zip(blurred).enumerate() {
-                if k == glint {
-                    *layer = blur;
-                    continue;
-                }
-                for ((v, b), (s, m)) in layer
-                    .data
-                    .iter_mut()
-                    .zip(&blur.data)
-                    .zip(speckled.data.iter().zip(&mean.data))
-                {
-                    *v = if *m > 0.0 { s * (b / m) } else { 0.0 };
-                }
+            let mut speckled = speckle_image(
+                &rough,
+                &psf,
+                settings.contrast,
+                &PoseSampler::new(seed, SPECKLE_STREAM ^ pose.index as u64),
+            );
+            // speckled / (P∗I): the mean of the coherent image is the blurred rough light.
+            let mean = psf.blur(&rough);
+            for (s, m) in speckled.data.iter_mut().zip(&mean.data) {
+                *s = if *m > 0.0 { *s / m } else { 0.0 };
             }
+            Some(speckled)
+        }
+    };
+    let mut blurred = Image::<f64>::new(w, h);
+    for (k, layer) in irradiance.by_class.iter_mut().enumerate() {
+        if !lit(layer) {
+            continue;
+        }
+        psf.blur_into(layer, &mut blurred);
+        std::mem::swap(layer, &mut blurred);
+        if let (Some(ratio), false) = (&ratio, k == glint) {
+            layer
+                .data
+                .iter_mut()
+                .zip(&ratio.data)
+                .for_each(|(v, r)| *v *= r);
         }
     }
     let total = &mut irradiance.total;
     total.data.fill(0.0);
-    for layer in &irradiance.by_class {
+    for layer in irradiance.by_class.iter().filter(|l| lit(l)) {
         total
             .data
             .iter_mut()

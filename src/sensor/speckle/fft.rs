@@ -14,9 +14,9 @@
 //!   any lit row skip their inverse FFT; the kernel's spectrum (real: h is even in x and y)
 //!   is computed once per block size and call.
 //!
-//! Work is per tile, in parallel; each tile uses its own scratch (reset before use) and the
-//! FFT plans fixed before the parallel part, so the image is bit-identical for any thread
-//! count. Cost per tile ~ (lit rows + output rows)·M_x·log M_x + M_x·M_y·log M_y, against
+//! Work is per tile, in parallel; each tile runs in its thread's scratch (reset before use)
+//! with the FFT plans fixed before the parallel part, so the image is bit-identical for any
+//! thread count. Cost per tile ~ (lit rows + output rows)·M_x·log M_x + M_x·M_y·log M_y, against
 //! the direct method's (output sub-samples)·(2h + 1)².
 
 use std::collections::BTreeMap;
@@ -204,7 +204,10 @@ fn transpose(
     }
 }
 
-/// One thread's buffers, sized for the largest block of the call.
+/// One thread's buffers. They grow to the largest block seen and are kept by the thread for
+/// the next tile and the next call, so the imager allocates nothing per tile or per pose
+/// once warm. Every buffer is overwritten (or reset) before it is read.
+#[derive(Default)]
 struct Scratch {
     a: Vec<Complex64>,
     b: Vec<Complex64>,
@@ -215,17 +218,29 @@ struct Scratch {
 }
 
 impl Scratch {
-    fn new(e: &Engine) -> Scratch {
+    /// Grows the buffers to what `e`'s blocks need.
+    fn fit(&mut self, e: &Engine) {
         let zero = Complex64::new(0.0, 0.0);
-        Scratch {
-            a: vec![zero; e.max_area],
-            b: vec![zero; e.max_area],
-            fft: vec![zero; e.scratch_len],
-            acc: vec![0.0; SLOTS],
-            lit: Vec::with_capacity(e.max_m),
-            reached: Vec::with_capacity(e.max_m),
+        for (v, n) in [
+            (&mut self.a, e.max_area),
+            (&mut self.b, e.max_area),
+            (&mut self.fft, e.scratch_len),
+        ] {
+            if v.len() < n {
+                v.resize(n, zero);
+            }
         }
+        if self.acc.len() < SLOTS {
+            self.acc.resize(SLOTS, 0.0);
+        }
+        self.lit.reserve(e.max_m);
+        self.reached.reserve(e.max_m);
     }
+}
+
+thread_local! {
+    /// This thread's [`Scratch`].
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
 }
 
 /// The coherent pixels of `tiles` ([`SLOTS`] per tile), by FFT.
@@ -240,14 +255,17 @@ pub(super) fn tile_pixels(
     let live: Vec<Job> = jobs.iter().flatten().copied().collect();
     let engine = Engine::new(psf, &live);
     let mut pixels = vec![0.0; tiles.len() * SLOTS];
-    pixels.par_chunks_mut(SLOTS).zip(&jobs).for_each_init(
-        || Scratch::new(&engine),
-        |scratch, (out, job)| {
+    pixels
+        .par_chunks_mut(SLOTS)
+        .zip(&jobs)
+        .for_each(|(out, job)| {
             if let Some(job) = job {
-                tile_fft(rough, psf, contrast, sampler, &engine, job, scratch, out);
+                SCRATCH.with_borrow_mut(|scratch| {
+                    scratch.fit(&engine);
+                    tile_fft(rough, psf, contrast, sampler, &engine, job, scratch, out);
+                });
             }
-        },
-    );
+        });
     pixels
 }
 
