@@ -185,7 +185,8 @@ fn mixed_pixels_the_selection_mode_decides_between_pane_and_background() {
 }
 
 /// The car window's convex faces return light above the threshold at the scene's 2 ms
-/// exposure, so the paper's "highest point above the ground" lands on the top face, while the
+/// exposure, so the paper's "highest point above the ground" lands on the top face or on light
+/// seen through it (21–124 mm from p_e at the 3 poses), while the
 /// edge-line rule climbs the chain of edge returns to the top of the seam: p_e (sensor only,
 /// true pose known, 2^16 photons: 0.18, 0.11, 0.10 mm from p_e at the 3 poses; stopping at the
 /// top of the vertical wall, as the rule did before it climbed, gave 0.67–0.84 mm).
@@ -208,7 +209,7 @@ fn car_window_edge_line_bips_find_p_e_where_the_highest_point_does_not() {
         max_depth: 64,
         seed: 1,
     };
-    let mut face_picks = 0;
+    let mut off_edge = 0;
     for pose in plan_border_scan(&border_b, &scan, &world.mount) {
         let r = simulate_pose(&trace, &head, &pose, &settings);
         let edge = find_bip(&r.profile, &pose.sensor, BipRule::EdgeLine).expect("an edge BIP");
@@ -224,13 +225,18 @@ fn car_window_edge_line_bips_find_p_e_where_the_highest_point_does_not() {
         );
         assert_eq!(edge.label, Some(PathClass::GlassEdge));
         let paper = find_bip(&r.profile, &pose.sensor, BipRule::Highest).unwrap();
-        if paper.label == Some(PathClass::GlassFace) {
-            face_picks += 1;
+        let paper_mm = (paper.point_b - pose.edge_point).norm() * 1e3;
+        eprintln!(
+            "pose {}: paper's rule {paper_mm:.2} mm from p_e ({:?})",
+            pose.index, paper.label
+        );
+        if paper_mm > 5.0 && paper.label != Some(PathClass::GlassEdge) {
+            off_edge += 1;
         }
     }
     assert!(
-        face_picks >= 2,
-        "the paper's rule picked the face at {face_picks} of 3 poses"
+        off_edge >= 2,
+        "the paper's rule picked a point off the edge at only {off_edge} of 3 poses"
     );
 }
 

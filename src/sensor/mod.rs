@@ -7,7 +7,9 @@
 //!   the whole laser plane is in focus; the exact map pixel ↔ (x, z) in the laser plane.
 //! - `imager`, `emva`, `bloom`: irradiance → photons → electrons → digital numbers, with the
 //!   EMVA 1288 noise model and full-well overflow (CMOS clip, CCD bleed).
-//! - `speckle`: coherent imaging of rough returns (speckle, diffraction).
+//! - `diffraction`: the lens's Airy PSF, coherent (sub-pixel amplitude) and incoherent
+//!   (integrated over pixels: the blur of light that forms no speckle).
+//! - `speckle`: coherent imaging of rough returns (speckle and diffraction), by FFT.
 //! - `path_class`: what produced the light on the sensor.
 //! - `profile`: the firmware: per-column peaks, filters, selection modes, triangulation.
 //! - `preset`: named sensor presets (`scancontrol-2600-100`).
@@ -16,6 +18,7 @@
 
 pub mod bloom;
 pub mod camera;
+pub mod diffraction;
 pub mod emva;
 pub mod image;
 pub mod imager;
@@ -62,7 +65,8 @@ pub struct SensorConfig {
     pub range: MeasuringRange,
     /// The profile firmware: threshold, peak filters, selection mode, points per profile.
     pub firmware: profile::FirmwareSettings,
-    /// Laser speckle and diffraction on rough-surface returns; `None` = incoherent image.
+    /// Laser speckle on rough-surface returns; `None` = incoherent image (still blurred by
+    /// the lens's diffraction, `diffraction::AiryPsf`).
     pub speckle: Option<speckle::SpeckleSettings>,
 }
 

@@ -1,5 +1,6 @@
 //! Analytic physics checks.
 
+mod diffraction;
 mod firmware;
 mod glass;
 mod multiple_scattering;
