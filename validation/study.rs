@@ -55,6 +55,14 @@ fn study_scan_angle_prints_the_summary_and_writes_tables_and_plots() {
         "1",
         "--sweep-deg",
         "20:40:20",
+        "--exposures-ms",
+        "0.15,0.5",
+        "--map-arris-mm",
+        "0,0.8",
+        "--map-roughness",
+        "0.3",
+        "--map-positions",
+        "1",
         "--photons",
         "16384",
         "--out",
@@ -107,8 +115,32 @@ fn study_scan_angle_prints_the_summary_and_writes_tables_and_plots() {
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
-    for stem in ["edge_10deg", "edge_40deg", "bip_error_vs_angle"] {
+    for stem in [
+        "edge_10deg",
+        "edge_40deg",
+        "bip_error_vs_angle",
+        "exposure_axis_edge-line",
+        "finding_map_highest_0.15ms",
+        "finding_map_edge-line_0.5ms",
+    ] {
         assert_plot(&out, stem);
+    }
+    // The exposure axis: one row per angle, exposure and rule; the map: one row per cell,
+    // exposure and rule, and the region where the paper's finding holds per rule and exposure.
+    assert_eq!(j["exposures_ms"], serde_json::json!([0.15, 0.5]));
+    let axis = std::fs::read_to_string(out.join("exposure_axis.csv")).unwrap();
+    assert_eq!(axis.lines().count(), 1 + 2 * 2 * 2, "{axis}");
+    let map = std::fs::read_to_string(out.join("finding_map.csv")).unwrap();
+    assert_eq!(map.lines().count(), 1 + 2 * 2 * 2, "{map}");
+    let cells = j["finding_map"]["cells"].as_array().unwrap();
+    assert_eq!(cells.len(), 2);
+    for rule in ["highest", "edge-line"] {
+        for ms in ["0.15", "0.5"] {
+            assert!(
+                j["finding_map"]["holds"][rule][ms].is_array(),
+                "{rule} {ms}"
+            );
+        }
     }
     let written: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -137,6 +169,7 @@ fn study_scan_angle_runs_without_missing_variants_and_says_so() {
             "--positions",
             "1",
             "--no-sweep",
+            "--no-map",
             "--photons",
             "8192",
             "--json",

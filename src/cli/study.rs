@@ -10,17 +10,21 @@ use clap::{Args, Subcommand};
 use serde_json::{json, Value};
 
 use super::{flags, progress, CliError};
+use crate::dataset::scene_edit::SceneTemplate;
 use crate::dataset::{atomic::write_atomic, json as json_file, output_dir};
 use crate::plot::edge_scatter::EdgeScatter;
 use crate::plot::save;
 use crate::scene;
 use crate::sensor::SensorHead;
 use crate::study::as_typed;
+use crate::study::finding_map::{run_finding_map, FindingMapConfig, MapCell};
+use crate::study::finding_map_report::{map_csv, map_heat_maps, map_json};
 use crate::study::scan_angle::{
     run_scan_angle_study, ScanAngleConfig, ScanAngleStudy, Variant, VariantSetup,
 };
 use crate::study::scan_angle_report::{
-    bip_curve_figure, points_csv, summary_csv, summary_json, sweep_csv,
+    bip_curve_figure, exposure_csv, exposure_heat_maps, points_csv, summary_csv, summary_json,
+    sweep_csv,
 };
 use crate::transport::{TraceScene, TraceSettings};
 
@@ -61,6 +65,25 @@ pub struct ScanAngleArgs {
     /// Skip the BIP-error curve.
     #[arg(long)]
     pub no_sweep: bool,
+    /// The exposure axis: exposures (ms, comma-separated) at which every bare-pane pose is
+    /// also sensed (the light is traced once). Around the scanCONTROL driver's default 0.5 ms.
+    #[arg(long, value_name = "LIST", default_value = "0.15,0.5,1.5")]
+    pub exposures_ms: String,
+    /// Arris face widths (mm, both corners; 0 = flat ground) of the finding map.
+    #[arg(long, value_name = "LIST", default_value = "0,0.4,0.8,1.2,1.6")]
+    pub map_arris_mm: String,
+    /// Edge roughness values (GGX α) of the finding map.
+    #[arg(long, value_name = "LIST", default_value = "0.1,0.3,0.6,1")]
+    pub map_roughness: String,
+    /// The shallow and the steep scan angle the map compares (deg): the paper's 10° and 40°.
+    #[arg(long, value_name = "A,B", default_value = "10,40")]
+    pub map_angles_deg: String,
+    /// Positions along the border per map cell and angle (≥ 1).
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    pub map_positions: usize,
+    /// Skip the finding map.
+    #[arg(long)]
+    pub no_map: bool,
     #[command(flatten)]
     pub light: flags::LightArgs,
     #[command(flatten)]
@@ -124,6 +147,22 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     if args.positions == 0 {
         return Err(flags::bad_flag("positions", "must be ≥ 1, got 0".into()));
     }
+    let exposures_s = flags::list("exposures-ms", &args.exposures_ms, |s| {
+        let ms = flags::number("exposures-ms", s)?;
+        if ms.is_finite() && ms > 0.0 {
+            Ok(ms * 1e-3)
+        } else {
+            Err(flags::bad_flag(
+                "exposures-ms",
+                format!("must be > 0, got {ms}"),
+            ))
+        }
+    })?;
+    let map = if args.no_map {
+        None
+    } else {
+        Some(map_settings(&args)?)
+    };
     flags::photons(args.light.photons)?;
 
     let (bare, bare_world) = setup(&args.scene, Variant::Bare)?;
@@ -158,6 +197,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     let cfg = ScanAngleConfig {
         angles_rad,
         sweep_rad,
+        exposures_s: exposures_s.clone(),
         scan: crate::scan::ScanConfig {
             poses: args.positions,
             ..bare_world.scan
@@ -168,14 +208,42 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
             seed: args.light.seed,
         },
     };
-    let bar = progress::bar(cfg.simulations(setups.len()) as u64, "poses", args.json);
+    let map_cfg = map.map(|m| FindingMapConfig {
+        arris_widths_mm: m.arris_widths_mm,
+        roughness: m.roughness,
+        angles_rad: m.angles_rad,
+        exposures_s: exposures_s.clone(),
+        scan: crate::scan::ScanConfig {
+            poses: args.map_positions,
+            ..bare_world.scan
+        },
+        trace: cfg.trace,
+    });
+    let template = match &map_cfg {
+        Some(_) => Some(SceneTemplate::load(&args.scene).map_err(CliError::input)?),
+        None => None,
+    };
+    let total = cfg.simulations(setups.len()) + map_cfg.as_ref().map_or(0, |m| m.simulations());
+    let bar = progress::bar(total as u64, "poses", args.json);
     let study = run_scan_angle_study(&setups, &cfg, &|| bar.inc(1));
+    let map_cells = match (&map_cfg, &template) {
+        (Some(m), Some(t)) => Some(
+            run_finding_map(t, m, &|| bar.inc(1))
+                .map_err(|e| CliError::input(anyhow::anyhow!("{}: {e}", args.scene.display())))?,
+        ),
+        _ => None,
+    };
     bar.finish_and_clear();
     let simulated_s = started.elapsed().as_secs_f64();
 
+    let exposures_ms: Vec<f64> = exposures_s.iter().map(|e| as_typed(e * 1e3)).collect();
     let mut files = Vec::new();
     if let Some(out) = &args.output.out {
-        files = write_outputs(out, &study).map_err(CliError::internal)?;
+        files = write_outputs(out, &study, &exposures_ms).map_err(CliError::internal)?;
+        if let (Some(m), Some(cells)) = (&map_cfg, &map_cells) {
+            files.extend(write_map(out, m, cells).map_err(CliError::internal)?);
+        }
+        files.push("summary.json".into());
     }
     let run = json!({
         "scene": args.scene.display().to_string(),
@@ -185,6 +253,12 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
         "photons": cfg.trace.photons,
         "seed": cfg.trace.seed,
         "sweep_deg": cfg.sweep_rad.iter().map(|a| as_typed(a.to_degrees())).collect::<Vec<_>>(),
+        "exposure_ms": as_typed(bare_world.sensor.imager.exposure_s * 1e3),
+        "exposures_ms": exposures_ms,
+        "finding_map": match (&map_cfg, &map_cells) {
+            (Some(m), Some(c)) => map_json(m, c),
+            _ => Value::Null,
+        },
         "files": files,
         "elapsed_s": simulated_s,
     });
@@ -196,19 +270,130 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     if args.json {
         super::print_json(&summary)?;
     } else {
-        print_table(&study);
-        eprintln!(
-            "{} poses simulated in {:.1} s",
-            cfg.simulations(setups.len()),
-            simulated_s
-        );
+        print_table(&study, &exposures_ms);
+        if let (Some(m), Some(c)) = (&map_cfg, &map_cells) {
+            print_map(m, c);
+        }
+        eprintln!("{total} poses simulated in {simulated_s:.1} s");
     }
     Ok(())
 }
 
+/// The finding map's axes as given by its flags.
+struct MapAxes {
+    arris_widths_mm: Vec<f64>,
+    roughness: Vec<f64>,
+    angles_rad: [f64; 2],
+}
+
+/// The finding map's flags: arris widths, roughness values, the two angles.
+fn map_settings(args: &ScanAngleArgs) -> Result<MapAxes, CliError> {
+    let widths = flags::list("map-arris-mm", &args.map_arris_mm, |s| {
+        let w = flags::number("map-arris-mm", s)?;
+        if w.is_finite() && w >= 0.0 {
+            Ok(w)
+        } else {
+            Err(flags::bad_flag(
+                "map-arris-mm",
+                format!("must be ≥ 0, got {w}"),
+            ))
+        }
+    })?;
+    let roughness = flags::list("map-roughness", &args.map_roughness, |s| {
+        let a = flags::number("map-roughness", s)?;
+        if a.is_finite() && a > 0.0 {
+            Ok(a)
+        } else {
+            Err(flags::bad_flag(
+                "map-roughness",
+                format!("must be > 0, got {a}"),
+            ))
+        }
+    })?;
+    let angles = flags::list("map-angles-deg", &args.map_angles_deg, |s| {
+        flags::angle_rad("map-angles-deg", flags::number("map-angles-deg", s)?)
+    })?;
+    let [lo, hi] = angles[..] else {
+        return Err(flags::bad_flag(
+            "map-angles-deg",
+            format!("expects two angles, got {:?}", args.map_angles_deg),
+        ));
+    };
+    if args.map_positions == 0 {
+        return Err(flags::bad_flag(
+            "map-positions",
+            "must be ≥ 1, got 0".into(),
+        ));
+    }
+    Ok(MapAxes {
+        arris_widths_mm: widths,
+        roughness,
+        angles_rad: [lo, hi],
+    })
+}
+
+/// Writes the finding map's CSV and heat maps; returns the file names.
+fn write_map(out: &Path, cfg: &FindingMapConfig, cells: &[MapCell]) -> anyhow::Result<Vec<String>> {
+    write_atomic(&out.join("finding_map.csv"), |w| {
+        w.write_all(map_csv(cfg, cells).as_bytes())
+    })?;
+    let mut files = vec!["finding_map.csv".to_owned()];
+    for (stem, fig) in map_heat_maps(cfg, cells) {
+        save(&fig, out, &stem)?;
+        files.extend([format!("{stem}.png"), format!("{stem}.svg")]);
+    }
+    Ok(files)
+}
+
+/// The map on stderr: per exposure and rule, the 10°/40° ratio per cell and whether it holds.
+fn print_map(cfg: &FindingMapConfig, cells: &[MapCell]) {
+    let [lo, hi] = cfg.angles_rad.map(|a| as_typed(a.to_degrees()));
+    for (e, exposure_s) in cfg.exposures_s.iter().enumerate() {
+        for k in 0..2 {
+            eprintln!(
+                "finding map, {} rule, {} ms: BIP error at {lo}° / at {hi}° (* = holds)",
+                crate::study::tally::RULES[k].name(),
+                as_typed(exposure_s * 1e3)
+            );
+            for &alpha in &cfg.roughness {
+                let row: Vec<String> = cfg
+                    .arris_widths_mm
+                    .iter()
+                    .map(|&w| {
+                        let c = cells
+                            .iter()
+                            .find(|c| c.arris_width_mm == w && c.roughness == alpha);
+                        c.map_or("–".into(), |c| {
+                            let mark = if c.holds(e, k) == Some(true) {
+                                "*"
+                            } else {
+                                " "
+                            };
+                            format!("{:>7.2}{mark}", c.ratio(e, k))
+                        })
+                    })
+                    .collect();
+                eprintln!("  α {alpha:<5} {}", row.join(" "));
+            }
+            eprintln!(
+                "  (columns: arris width {} mm)",
+                cfg.arris_widths_mm
+                    .iter()
+                    .map(|w| w.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+    }
+}
+
 /// Writes the CSVs and plots into `out`; returns the file names (summary.json is written
 /// after, by the caller).
-fn write_outputs(out: &Path, study: &ScanAngleStudy) -> anyhow::Result<Vec<String>> {
+fn write_outputs(
+    out: &Path,
+    study: &ScanAngleStudy,
+    exposures_ms: &[f64],
+) -> anyhow::Result<Vec<String>> {
     let mut files = Vec::new();
     let mut text = |name: String, body: String| -> anyhow::Result<()> {
         write_atomic(&out.join(&name), |w| w.write_all(body.as_bytes()))?;
@@ -221,6 +406,12 @@ fn write_outputs(out: &Path, study: &ScanAngleStudy) -> anyhow::Result<Vec<Strin
     text("summary.csv".into(), summary_csv(study))?;
     if !study.sweep.is_empty() {
         text("sweep.csv".into(), sweep_csv(study))?;
+    }
+    if !exposures_ms.is_empty() {
+        text(
+            "exposure_axis.csv".into(),
+            exposure_csv(study, exposures_ms),
+        )?;
     }
     for a in &study.angles {
         let pts = |v: Variant| -> Vec<(f64, f64)> {
@@ -259,12 +450,18 @@ fn write_outputs(out: &Path, study: &ScanAngleStudy) -> anyhow::Result<Vec<Strin
             "bip_error_vs_angle.svg".into(),
         ]);
     }
-    files.push("summary.json".into());
+    if !exposures_ms.is_empty() {
+        for (k, fig) in exposure_heat_maps(study, exposures_ms).iter().enumerate() {
+            let stem = format!("exposure_axis_{}", crate::study::tally::RULES[k].name());
+            save(fig, out, &stem)?;
+            files.extend([format!("{stem}.png"), format!("{stem}.svg")]);
+        }
+    }
     Ok(files)
 }
 
 /// The human-readable table on stderr.
-fn print_table(study: &ScanAngleStudy) {
+fn print_table(study: &ScanAngleStudy, exposures_ms: &[f64]) {
     eprintln!(
         "{:>7}  {:<9}  {:>28}  {:>8}",
         "angle", "rule", "BIP error mean ± std (max) mm", "valid"
@@ -293,6 +490,17 @@ fn print_table(study: &ScanAngleStudy) {
                 n.mean,
                 n.std,
                 v.saturated_pixel_fraction()
+            );
+        }
+    }
+    for a in &study.angles {
+        let Some(bare) = a.bare() else { continue };
+        for (t, ms) in bare.by_exposure.iter().zip(exposures_ms) {
+            let [h, e] = crate::study::tally::RuleSummary::both(t);
+            eprintln!(
+                "{:>6}°  {:>5} ms   highest {:.3} ± {:.3} mm ({:.2} valid), edge-line {:.3} ± {:.3} mm ({:.2} valid)",
+                a.scan_angle_deg, ms, h.error_mm.mean, h.error_mm.std, h.valid_fraction,
+                e.error_mm.mean, e.error_mm.std, e.valid_fraction
             );
         }
     }

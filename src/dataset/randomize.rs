@@ -57,11 +57,15 @@ pub enum Param {
     PoseJitterRzDeg,
     /// Seed of the sample's light transport, speckle and sensor noise (an integer).
     NoiseSeed,
+    /// Face width (mm) of both arrisses of the target panel's seamed edge (0 = a sharp
+    /// corner), keeping their angle.
+    ArrisWidthMm,
 }
 
 impl Param {
     /// Every parameter, in file-documentation order.
-    pub const ALL: [Param; 12] = [
+    /// New parameters go at the end: a parameter's sampler dimension is its place here.
+    pub const ALL: [Param; 13] = [
         Param::ScanAngleDeg,
         Param::ExposureMs,
         Param::GlassThicknessMm,
@@ -74,6 +78,7 @@ impl Param {
         Param::PoseJitterYMm,
         Param::PoseJitterRzDeg,
         Param::NoiseSeed,
+        Param::ArrisWidthMm,
     ];
 
     /// The key in the randomisation file, in the manifest and in the ground truth.
@@ -91,6 +96,7 @@ impl Param {
             Param::PoseJitterYMm => "pose_jitter_y_mm",
             Param::PoseJitterRzDeg => "pose_jitter_rz_deg",
             Param::NoiseSeed => "noise_seed",
+            Param::ArrisWidthMm => "arris_width_mm",
         }
     }
 
@@ -396,7 +402,7 @@ mod tests {
             ),
             (
                 "scan_angle_deg = [1, 2\n",
-                "r.toml:2:1: (file): expected `name = [min, max]` lines",
+                "(file): expected `name = [min, max]` lines",
             ),
         ] {
             let message = parse(text).unwrap_err().to_string();

@@ -180,6 +180,7 @@ fn apply(doc: &mut Table, values: &[(Param, f64)]) -> Result<(), String> {
                 jittered = true;
             }
             Param::NoiseSeed => {}
+            Param::ArrisWidthMm => set_arris_width(target_object(doc, target)?, v)?,
         }
     }
     if jittered {
@@ -269,6 +270,41 @@ fn target_object(doc: &mut Table, target: Option<usize>) -> Result<&mut Table, S
     objects(doc)
         .nth(k)
         .ok_or_else(|| "the scene has no [target]".to_owned())
+}
+
+/// Sets the face width of both arrisses of a seamed panel `object` (its `edge` absent, `"seamed"`
+/// or `{ seamed = { … } }`), keeping their angles and the fillet.
+fn set_arris_width(object: &mut Table, width_mm: f64) -> Result<(), String> {
+    let panel = object
+        .get_mut("panel")
+        .and_then(Value::as_table_mut)
+        .ok_or("the target is not a panel")?;
+    let mut seamed = match panel.get("edge") {
+        None => Table::new(),
+        Some(Value::String(s)) if s == "seamed" => Table::new(),
+        Some(Value::Table(t)) if t.len() == 1 && t.contains_key("seamed") => t
+            .get("seamed")
+            .and_then(Value::as_table)
+            .cloned()
+            .ok_or("the target's edge.seamed is not a table")?,
+        Some(_) => {
+            return Err(
+                "the target's edge is not seamed (arris_width_mm edits a seamed edge)".into(),
+            )
+        }
+    };
+    for side in ["top", "bottom"] {
+        let arris = seamed
+            .entry(side)
+            .or_insert_with(|| Value::Table(Table::new()))
+            .as_table_mut()
+            .ok_or_else(|| format!("the target's edge.seamed.{side} is not a table"))?;
+        arris.insert("width_mm".into(), Value::Float(width_mm));
+    }
+    let mut edge = Table::new();
+    edge.insert("seamed".into(), Value::Table(seamed));
+    panel.insert("edge".into(), Value::Table(edge));
+    Ok(())
 }
 
 fn target_glass(doc: &mut Table, target: Option<usize>) -> Result<&mut Table, String> {

@@ -624,4 +624,28 @@ mod tests {
             (nominal.rotation.angle_to(&window.pose.rotation) - 2f64.to_radians()).abs() < 1e-12
         );
     }
+
+    /// toml 0.8 refused `Spanned` fields under header tables (toml-rs#798), so a scene that
+    /// spelt its edge with `[objects.panel.edge.seamed.top]` headers failed to load: the
+    /// header form must build the same pane as the inline one.
+    #[test]
+    fn header_tables_and_inline_tables_build_the_same_pane() {
+        let text = std::fs::read_to_string(scene("edge_study.toml")).unwrap();
+        let inline = text.replace(
+            "\nedge = \"seamed\"\n",
+            "\nedge = { seamed = { top = { width_mm = 1.2, angle_deg = 40 }, bottom = { width_mm = 0.5 } } }\n",
+        );
+        let headers = text.replace(
+            "\nedge = \"seamed\"\n",
+            "\n[objects.panel.edge.seamed.top]\nwidth_mm = 1.2\nangle_deg = 40\n\
+             [objects.panel.edge.seamed.bottom]\nwidth_mm = 0.5\n",
+        );
+        assert_ne!(inline, text);
+        let path = scene("edge_study.toml");
+        let a = load_str(&path, &inline).unwrap_or_else(|e| panic!("inline: {e}"));
+        let b = load_str(&path, &headers).unwrap_or_else(|e| panic!("headers: {e}"));
+        let plain = load_str(&path, &text).unwrap();
+        assert_eq!(a.objects[0].mesh.positions, b.objects[0].mesh.positions);
+        assert_ne!(a.objects[0].mesh.positions, plain.objects[0].mesh.positions);
+    }
 }

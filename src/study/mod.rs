@@ -8,6 +8,8 @@
 //! only on the scene, the settings and the seed, never on the thread count.
 
 pub mod edge_frame;
+pub mod finding_map;
+pub mod finding_map_report;
 pub mod grid;
 pub mod scan_angle;
 pub mod scan_angle_report;

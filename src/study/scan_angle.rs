@@ -10,11 +10,12 @@
 //! angles are those of the geometry, not of the noise draw (common random numbers).
 
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::scan::poses::plan_border_scan;
-use crate::scan::simulate::simulate_pose;
+use crate::scan::simulate::{sense_pose, trace_pose};
 use crate::scan::ScanConfig;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorHead;
@@ -71,6 +72,9 @@ pub struct ScanAngleConfig {
     pub angles_rad: Vec<f64>,
     /// Scan angles of the BIP-error curve (rad), bare variant only; may be empty.
     pub sweep_rad: Vec<f64>,
+    /// The exposure axis (s): every bare pose is also sensed at each of these exposures (the
+    /// light is traced once; only the sensor and the firmware run again). May be empty.
+    pub exposures_s: Vec<f64>,
     /// The scene's scan settings (standoff, first position); `poses` is the number of
     /// positions and `scan_angle_rad` is replaced by each angle in turn.
     pub scan: ScanConfig,
@@ -125,6 +129,9 @@ pub struct VariantAngle {
     pub nearest_mm: Vec<Option<f64>>,
     /// Valid points whose peak reached the ADC's full scale.
     pub saturated_points: usize,
+    /// Per exposure of [`ScanAngleConfig::exposures_s`], one tally per position (bare variant
+    /// only; empty for tape and cover).
+    pub by_exposure: Vec<Vec<PoseTally>>,
 }
 
 impl VariantAngle {
@@ -185,6 +192,8 @@ pub struct SweepAngle {
     pub rules: [RuleSummary; 2],
     /// One tally per position.
     pub tallies: Vec<PoseTally>,
+    /// Both rules per exposure of [`ScanAngleConfig::exposures_s`].
+    pub by_exposure: Vec<[RuleSummary; 2]>,
 }
 
 /// The whole study.
@@ -209,13 +218,38 @@ fn run_variant(
         ..cfg.scan
     };
     let full_scale = setup.head.config.imager.max_dn();
+    let heads: Vec<SensorHead> = match setup.variant {
+        Variant::Bare => cfg
+            .exposures_s
+            .iter()
+            .map(|&e| {
+                let mut head = setup.head.clone();
+                head.config.imager.exposure_s = e;
+                head
+            })
+            .collect(),
+        Variant::Tape | Variant::Cover => Vec::new(),
+    };
+    let mut by_exposure = vec![Vec::with_capacity(scan.poses); heads.len()];
     let mut tallies = Vec::with_capacity(scan.poses);
     let mut nearest_mm = Vec::with_capacity(scan.poses);
     let mut saturated_points = 0;
     let mut kept = Vec::new();
     for pose in plan_border_scan(&setup.border_b, &scan, &setup.mount) {
-        let result = simulate_pose(&setup.scene, &setup.head, &pose, &cfg.trace);
         let frame = EdgeFrame::of_pose(&setup.border_b, &pose);
+        let (irradiance, stats) = trace_pose(&setup.scene, &setup.head, &pose, &cfg.trace);
+        // The exposure axis: the same light, sensed again (noise keyed on the seed and pose).
+        let sensed: Vec<PoseTally> = heads
+            .par_iter()
+            .map(|head| {
+                let r = sense_pose(irradiance.clone(), stats, head, &pose, &cfg.trace);
+                PoseTally::new(&r, &frame)
+            })
+            .collect();
+        for (t, s) in by_exposure.iter_mut().zip(sensed) {
+            t.push(s);
+        }
+        let result = sense_pose(irradiance, stats, &setup.head, &pose, &cfg.trace);
         tallies.push(PoseTally::new(&result, &frame));
         let mut nearest: Option<f64> = None;
         for q in result.profile.points.iter().filter(|q| q.valid) {
@@ -245,6 +279,7 @@ fn run_variant(
         tallies,
         nearest_mm,
         saturated_points,
+        by_exposure,
     }
 }
 
@@ -282,13 +317,13 @@ pub fn run_scan_angle_study(
                     .angles_rad
                     .iter()
                     .position(|&b| b == a)
-                    .and_then(|i| angles[i].bare().map(|v| v.tallies.clone()));
-                let tallies =
-                    reused.unwrap_or_else(|| run_variant(bare, cfg, a, None, on_pose).tallies);
+                    .and_then(|i| angles[i].bare().cloned());
+                let v = reused.unwrap_or_else(|| run_variant(bare, cfg, a, None, on_pose));
                 SweepAngle {
                     scan_angle_deg: as_typed(a.to_degrees()),
-                    rules: RuleSummary::both(&tallies),
-                    tallies,
+                    rules: RuleSummary::both(&v.tallies),
+                    by_exposure: v.by_exposure.iter().map(|t| RuleSummary::both(t)).collect(),
+                    tallies: v.tallies,
                 }
             })
             .collect(),

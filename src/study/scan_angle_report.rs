@@ -5,8 +5,9 @@ use serde_json::{json, Value};
 
 use super::csv_number;
 use super::scan_angle::{AngleResult, ScanAngleStudy, SweepAngle};
-use super::tally::by_rule_json;
+use super::tally::{by_rule_json, RuleSummary};
 use crate::plot::error_bars::{ErrorBars, Series};
+use crate::plot::heat_map::HeatMap;
 
 /// `variant,scan_angle_deg,position,out_mm,up_mm,intensity,label`: every valid point of every
 /// variant at one angle; `label` is the path class (`sensor::path_class`), empty if none.
@@ -114,6 +115,72 @@ pub fn bip_curve_figure(sweep: &[SweepAngle]) -> ErrorBars {
     }
 }
 
+/// The angles of the exposure axis with their rules per exposure: the sweep's when there is
+/// one (it includes the edge-plot angles), otherwise the edge-plot angles' bare variant.
+fn exposure_rows(study: &ScanAngleStudy) -> Vec<(f64, Vec<[RuleSummary; 2]>)> {
+    if !study.sweep.is_empty() {
+        return study
+            .sweep
+            .iter()
+            .map(|a| (a.scan_angle_deg, a.by_exposure.clone()))
+            .collect();
+    }
+    study
+        .angles
+        .iter()
+        .filter_map(|a| {
+            let b = a.bare()?;
+            let rules = b.by_exposure.iter().map(|t| RuleSummary::both(t)).collect();
+            Some((a.scan_angle_deg, rules))
+        })
+        .collect()
+}
+
+/// `exposure_ms,scan_angle_deg,rule,mean_mm,std_mm,max_mm,n,valid_fraction`: the bare pane's BIP
+/// error over the exposure axis × scan angle.
+pub fn exposure_csv(study: &ScanAngleStudy, exposures_ms: &[f64]) -> String {
+    let mut s =
+        String::from("exposure_ms,scan_angle_deg,rule,mean_mm,std_mm,max_mm,n,valid_fraction\n");
+    for (e, &ms) in exposures_ms.iter().enumerate() {
+        for (angle, rules) in exposure_rows(study) {
+            for r in &rules[e] {
+                s += &format!(
+                    "{ms},{angle},{},{},{},{},{},{}\n",
+                    r.rule.name(),
+                    csv_number(Some(r.error_mm.mean)),
+                    csv_number(Some(r.error_mm.std)),
+                    csv_number(Some(r.error_mm.max)),
+                    r.error_mm.n,
+                    csv_number(Some(r.valid_fraction))
+                );
+            }
+        }
+    }
+    s
+}
+
+/// Heat maps of the bare pane's mean BIP error over scan angle × exposure, one per rule (in
+/// [`super::tally::RULES`] order).
+pub fn exposure_heat_maps(study: &ScanAngleStudy, exposures_ms: &[f64]) -> Vec<HeatMap> {
+    let rows = exposure_rows(study);
+    (0..2)
+        .map(|k| HeatMap {
+            title: format!(
+                "BIP error, {} rule: scan angle × exposure (bare pane, mean over positions)",
+                super::tally::RULES[k].name()
+            ),
+            x_desc: "scan angle (deg)".into(),
+            x_labels: rows.iter().map(|(a, _)| format!("{a}")).collect(),
+            y_desc: "exposure (ms)".into(),
+            y_labels: exposures_ms.iter().map(|e| format!("{e}")).collect(),
+            values: (0..exposures_ms.len())
+                .map(|e| rows.iter().map(|(_, r)| r[e][k].error_mm.mean).collect())
+                .collect(),
+            value_desc: "mm".into(),
+        })
+        .collect()
+}
+
 /// The JSON summary: `angles` (per angle: `scan_angle_deg`, `bip_error_mm` and
 /// `valid_fraction` by the paper's rule, `bip_error_mm_by_rule`, per-variant distances of the
 /// points from p_e, per-position BIPs) and `sweep` (the BIP-error curve). `run` holds the
@@ -188,7 +255,19 @@ pub fn summary_json(study: &ScanAngleStudy, run: Value) -> Value {
             })
         })
         .collect();
-    super::with_run(json!({"angles": angles, "sweep": sweep}), run)
+    let exposure_axis: Vec<Value> = exposure_rows(study)
+        .into_iter()
+        .map(|(angle, rules)| {
+            json!({
+                "scan_angle_deg": angle,
+                "bip_error_mm_by_rule_per_exposure": rules.iter().map(by_rule_json).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    super::with_run(
+        json!({"angles": angles, "sweep": sweep, "exposure_axis": exposure_axis}),
+        run,
+    )
 }
 
 #[cfg(test)]
@@ -196,7 +275,7 @@ mod tests {
     use super::*;
     use crate::sensor::path_class::PathClass;
     use crate::study::scan_angle::{EdgePoint, SweepAngle, Variant, VariantAngle};
-    use crate::study::tally::{BipOutcome, PoseTally, RuleSummary, RULES};
+    use crate::study::tally::{BipOutcome, PoseTally, RULES};
 
     fn tally(error: Option<f64>) -> PoseTally {
         PoseTally {
@@ -219,6 +298,7 @@ mod tests {
             tallies: vec![tally(Some(0.5)), tally(None)],
             nearest_mm: vec![Some(0.25), None],
             saturated_points: 1,
+            by_exposure: vec![vec![tally(Some(0.25)), tally(Some(0.75))]],
         };
         let tape = VariantAngle {
             variant: Variant::Tape,
@@ -234,6 +314,7 @@ mod tests {
             label: Some(PathClass::ThroughGlass),
         };
         let tallies = bare.tallies.clone();
+        let exposure_tallies = bare.by_exposure[0].clone();
         ScanAngleStudy {
             angles: vec![AngleResult {
                 scan_angle_deg: 40.0,
@@ -249,6 +330,7 @@ mod tests {
             sweep: vec![SweepAngle {
                 scan_angle_deg: 40.0,
                 rules: RuleSummary::both(&tallies),
+                by_exposure: vec![RuleSummary::both(&exposure_tallies)],
                 tallies,
             }],
         }
@@ -301,5 +383,14 @@ mod tests {
         assert_eq!(a["variants"]["tape"]["nearest_point_mm"]["mean"], 0.25);
         assert!(a["bare_positions"][1]["bip"]["highest"]["error_mm"].is_null());
         assert_eq!(j["sweep"][0]["bip_error_mm_by_rule"]["highest"]["n"], 1);
+        let e = &j["exposure_axis"][0]["bip_error_mm_by_rule_per_exposure"][0];
+        assert_eq!(e["highest"]["mean"], 0.5);
+
+        let csv = exposure_csv(&s, &[0.15]);
+        assert!(csv.contains("0.15,40,highest,0.5,"), "{csv}");
+        assert!(csv.contains("0.15,40,edge-line,1,"), "{csv}");
+        let maps = exposure_heat_maps(&s, &[0.15]);
+        assert_eq!(maps.len(), 2);
+        assert_eq!(maps[1].values, vec![vec![1.0]]);
     }
 }
