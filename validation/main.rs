@@ -4,6 +4,7 @@
 
 mod cli;
 mod common;
+mod convergence;
 mod dataset;
 mod physics;
 mod scenes;

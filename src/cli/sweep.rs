@@ -204,6 +204,7 @@ fn write_outputs(
                         .map(|ei| (0..grid.angles_rad.len()).map(|ai| value(ai, ei)).collect())
                         .collect(),
                     value_desc: "mean |BIP − p_e| (mm)".into(),
+                    marked: Vec::new(),
                 };
                 let stem = format!(
                     "heat_{}_threshold-{}_{}",

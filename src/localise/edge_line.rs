@@ -17,10 +17,11 @@
 //!   `min_rise_rad` of the ground plane near the border (a bent window's face within ~11° at its
 //!   ends), while every step up the edge finish rises more steeply than that.
 //!
-//! Then: find the steep line with the most inliers among the points above the ground (pairs of
-//! nearby profile points propose lines; ties go to the first pair), keep its longest run without
-//! a gap over `max_gap`, drop points off its least-squares line, and start at the run's highest
-//! point. From there, climb: the next point is the nearest higher one within `max_gap` whose step
+//! Then: among the points above the ground, nearby pairs propose steep lines; each line's
+//! inliers are cut into runs at gaps over `max_gap`, and the line counts by its longest run,
+//! provided that run's own least-squares line is steep too (a flat band of returns crossed at a
+//! shallow angle is not an edge). The longest such run wins (ties go to the first pair); drop
+//! points off its least-squares line and start at the run's highest point. From there, climb: the next point is the nearest higher one within `max_gap` whose step
 //! rises at least `min_rise_rad`; the last point reached is the BIP, where the edge finish meets
 //! the transparent face (p_e). On a flat-ground edge the climb ends where it starts, the top of
 //! the wall; on a seamed edge it follows the arris from the wall's top to p_e (the longest
@@ -89,7 +90,8 @@ pub fn bip_edge_line(
     Some(climb(points, &above, seed, settings))
 }
 
-/// The highest point of the longest gap-free run on the steep line with the most inliers.
+/// The highest point of the longest gap-free run of inliers on a steep line whose run is
+/// itself steep (its least-squares line at least `min_steepness_rad` from the ground).
 fn steep_run_top(
     points: &[Point3<f64>],
     above: &[usize],
@@ -107,7 +109,31 @@ fn steep_run_top(
             })
             .collect::<Vec<usize>>()
     };
-    let mut best: Option<(usize, Point3<f64>, Vector3<f64>)> = None;
+    // Longest gap-free run of inliers (ties: the higher one).
+    let longest_run = |mut idx: Vec<usize>| {
+        idx.sort_by(|&x, &y| points[x].z.total_cmp(&points[y].z).then(x.cmp(&y)));
+        let mut runs: Vec<Vec<usize>> = Vec::new();
+        for k in idx {
+            match runs.last_mut() {
+                Some(run)
+                    if (points[k] - points[run[run.len() - 1]]).norm() <= settings.max_gap =>
+                {
+                    run.push(k)
+                }
+                _ => runs.push(vec![k]),
+            }
+        }
+        runs.into_iter().rev().max_by_key(|r| r.len())
+    };
+    // A candidate counts by its run, and only if the run's own least-squares line is steep:
+    // a flat band of returns (the ground seen through the pane, ±30 µm of speckle) lies within
+    // the tolerance of any line crossing it at 25–30° over ~1 mm, and so would outnumber a
+    // short arris that is the only part of the edge above the threshold.
+    let mut best: Option<(Vec<usize>, Point3<f64>, Vector3<f64>)> = None;
+    let best_len = |b: &Option<(Vec<usize>, Point3<f64>, Vector3<f64>)>| {
+        b.as_ref()
+            .map_or(settings.min_points.max(1) - 1, |b| b.0.len())
+    };
     for (ia, &i) in above.iter().enumerate() {
         for &j in above.iter().skip(ia + 1).take(settings.pair_window) {
             let d = points[j] - points[i];
@@ -115,33 +141,26 @@ fn steep_run_top(
             if len < 2.0 * settings.tolerance || d.z.abs() < min_sin * len {
                 continue;
             }
-            let dir = d / len;
-            let count = inliers_of(points[i], dir).len();
-            if best.is_none_or(|(c, _, _)| count > c) {
-                best = Some((count, points[i], dir));
+            let inliers = inliers_of(points[i], d / len);
+            if inliers.len() <= best_len(&best) {
+                continue;
             }
+            let Some(run) = longest_run(inliers) else {
+                continue;
+            };
+            if run.len() <= best_len(&best) {
+                continue;
+            }
+            let (centre, axis) = principal_line(points, &run);
+            if axis.z.abs() < min_sin {
+                continue;
+            }
+            best = Some((run, centre, axis));
         }
     }
-    let (_, a, dir) = best?;
-    let mut run_pts = inliers_of(a, dir);
-    run_pts.sort_by(|&x, &y| points[x].z.total_cmp(&points[y].z).then(x.cmp(&y)));
-    // Split into runs at gaps; keep the longest (ties: the higher one).
-    let mut runs: Vec<Vec<usize>> = Vec::new();
-    for k in run_pts {
-        match runs.last_mut() {
-            Some(run) if (points[k] - points[run[run.len() - 1]]).norm() <= settings.max_gap => {
-                run.push(k)
-            }
-            _ => runs.push(vec![k]),
-        }
-    }
-    let run = runs.into_iter().rev().max_by_key(|r| r.len())?;
-    if run.len() < settings.min_points {
-        return None;
-    }
+    let (run, centre, axis) = best?;
     // The first face point past the corner can sit within the tolerance of a line through two
     // edge points; the least-squares line of the run, with half the tolerance, drops it.
-    let (centre, axis) = principal_line(points, &run);
     let tight2 = tol2 / 4.0;
     run.iter()
         .copied()
@@ -338,6 +357,36 @@ mod tests {
         });
         let i = bip_edge_line(&pts, 0.0, 0.5e-3, &EdgeLineSettings::default()).unwrap();
         assert!((pts[i] - p_e).norm() < 0.15e-3);
+    }
+
+    #[test]
+    fn a_lone_arris_beats_a_flat_band_seen_through_the_pane() {
+        // At 40° and a short exposure a 0.4 mm arris is the only part of the edge above the
+        // threshold (4 returns, simulated in the scan-angle study's finding map), while the table
+        // seen through the pane is a band of ~15 returns 1.85 mm below the top face, scattered
+        // ±30 µm by speckle: a line crossing the band at 25–30° holds 5 of them within 0.2 mm.
+        let t = 4e-3;
+        let (w, h) = (0.4e-3, 0.4e-3);
+        let p_e = Point3::new(w, 0.0, t);
+        let mut pts: Vec<Point3<f64>> = (0..4)
+            .map(|i| {
+                let s = i as f64 / 3.0;
+                Point3::new(
+                    s * w + jitter(i, 15e-6),
+                    0.0,
+                    t - h + s * h + jitter(i + 3, 15e-6),
+                )
+            })
+            .collect();
+        pts.extend((0..15).map(|i| {
+            Point3::new(
+                w + 2.3e-3 + i as f64 * 0.25e-3,
+                0.0,
+                t - 1.85e-3 + jitter(i + 11, 30e-6),
+            )
+        }));
+        let i = bip_edge_line(&pts, 0.0, 0.5e-3, &EdgeLineSettings::default()).unwrap();
+        assert!((pts[i] - p_e).norm() < 0.1e-3, "{:?}", pts[i]);
     }
 
     /// A convex pane's profile: ground at z = 0 out to x = 10 mm, the edge from z = 0.5 mm to

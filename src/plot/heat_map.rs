@@ -25,6 +25,9 @@ pub struct HeatMap {
     pub values: Vec<Vec<f64>>,
     /// What the colour means, with its unit.
     pub value_desc: String,
+    /// Cells to mark with a "*" after their value (`marked[row][column]`; empty: none), for a
+    /// yes/no verdict drawn over the value it comes from.
+    pub marked: Vec<Vec<bool>>,
 }
 
 /// Viridis at five stops (Smith & van der Walt, matplotlib's default colour map).
@@ -117,8 +120,16 @@ impl Figure for HeatMap {
         for (r, row) in self.values.iter().enumerate().take(ny) {
             for (c, &v) in row.iter().enumerate().take(nx) {
                 let (x, y) = (c as f64, r as f64);
+                let mark = self
+                    .marked
+                    .get(r)
+                    .and_then(|m| m.get(c))
+                    .is_some_and(|&m| m);
                 let (fill, text) = if v.is_finite() {
-                    (ramp(t_of(v)), format!("{v:.2}"))
+                    (
+                        ramp(t_of(v)),
+                        format!("{v:.2}{}", if mark { " *" } else { "" }),
+                    )
                 } else {
                     (RGBColor(190, 190, 190), "–".to_owned())
                 };

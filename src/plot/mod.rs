@@ -186,6 +186,7 @@ mod render_tests {
             y_labels: vec!["0.1".into()],
             values: vec![vec![0.3, f64::NAN]],
             value_desc: "mm".into(),
+            marked: Vec::new(),
         };
         fn check(r: Rendered, size: (u32, u32), text: &str) {
             let img = image::load_from_memory(&r.png).expect("the PNG decodes");

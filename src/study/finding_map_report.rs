@@ -67,8 +67,7 @@ pub fn map_heat_maps(cfg: &FindingMapConfig, cells: &[MapCell]) -> Vec<(String, 
             };
             let fig = HeatMap {
                 title: format!(
-                    "Where the paper's finding holds: BIP error at {lo}° / at {hi}° ({} rule, \
-                     {ms} ms); holds where ≥ {HOLDS_RATIO} and ≥ {HOLDS_MARGIN_MM} mm apart",
+                    "BIP error at {lo}° ÷ at {hi}°, {} rule, {ms} ms (* = the finding holds)",
                     rule.name()
                 ),
                 x_desc: "arris width (mm, both corners)".into(),
@@ -80,7 +79,23 @@ pub fn map_heat_maps(cfg: &FindingMapConfig, cells: &[MapCell]) -> Vec<(String, 
                     .iter()
                     .map(|&a| cfg.arris_widths_mm.iter().map(|&w| value(w, a)).collect())
                     .collect(),
-                value_desc: format!("error at {lo}° / at {hi}°"),
+                value_desc: format!("error at {lo}° ÷ at {hi}°"),
+                marked: cfg
+                    .roughness
+                    .iter()
+                    .map(|&a| {
+                        cfg.arris_widths_mm
+                            .iter()
+                            .map(|&w| {
+                                cells
+                                    .iter()
+                                    .find(|c| c.arris_width_mm == w && c.roughness == a)
+                                    .and_then(|c| c.holds(e, k))
+                                    .unwrap_or(false)
+                            })
+                            .collect()
+                    })
+                    .collect(),
             };
             maps.push((format!("finding_map_{}_{ms}ms", rule.name()), fig));
         }

@@ -7,6 +7,7 @@
 //! JSON values; the command line writes them (atomically, through `dataset`). Results depend
 //! only on the scene, the settings and the seed, never on the thread count.
 
+pub mod convergence;
 pub mod edge_frame;
 pub mod finding_map;
 pub mod finding_map_report;

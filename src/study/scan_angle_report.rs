@@ -177,6 +177,7 @@ pub fn exposure_heat_maps(study: &ScanAngleStudy, exposures_ms: &[f64]) -> Vec<H
                 .map(|e| rows.iter().map(|(_, r)| r[e][k].error_mm.mean).collect())
                 .collect(),
             value_desc: "mm".into(),
+            marked: Vec::new(),
         })
         .collect()
 }

@@ -1,0 +1,118 @@
+//! How many photons make a converged profile? Runs the convergence test of
+//! `glassscan::study::convergence` on a shipped scene at several photon counts against a
+//! 2^22-photon reference, prints the table and writes it (and the reference, which the slow
+//! validation test `convergence::the_default_photon_count_is_converged` reads) to `OUT`.
+//!
+//! ```sh
+//! cargo run --release --example convergence -- scenes/edge_study_bare.toml 40 \
+//!     validation/results/convergence/edge_study_bare
+//! ```
+//!
+//! Seeds: reference A = {11, 12} and B = {21, 22}; N at A (same seed, criteria 2 and 3) and at
+//! C = {31, 32} (independent, criterion 1). Poses: the scene's scan with `POSES` poses (8).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use glassscan::scan::poses::plan_border_scan;
+use glassscan::scene;
+use glassscan::sensor::SensorHead;
+use glassscan::study::convergence::{judge, sample_profiles, ProfileSample};
+use glassscan::transport::TraceScene;
+use serde_json::json;
+
+const POSES: usize = 8;
+const MAX_DEPTH: u32 = 64;
+const REFERENCE_PHOTONS: u64 = 1 << 22;
+const SEEDS_A: [u64; 2] = [11, 12];
+const SEEDS_B: [u64; 2] = [21, 22];
+const SEEDS_C: [u64; 2] = [31, 32];
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [scene_path, angle_deg, out] = &args[..] else {
+        eprintln!("usage: convergence SCENE SCAN_ANGLE_DEG OUT_DIR [PHOTONS,…]");
+        std::process::exit(2);
+    };
+    let photon_counts: Vec<u64> = match args.get(3) {
+        Some(list) => list.split(',').map(|s| s.parse().unwrap()).collect(),
+        None => vec![1 << 14, 1 << 16, 1 << 18, 1 << 20],
+    };
+    let out = PathBuf::from(out);
+    std::fs::create_dir_all(&out).unwrap();
+    let world = scene::load(std::path::Path::new(scene_path)).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(2)
+    });
+    let head = SensorHead::new(&world.sensor).unwrap();
+    let trace = TraceScene::new(&world).unwrap();
+    let target = world.target.as_ref().unwrap();
+    let border_b = target
+        .border
+        .transformed(&world.objects[target.object].pose);
+    let mut scan = world.scan;
+    scan.scan_angle_rad = angle_deg.parse::<f64>().unwrap().to_radians();
+    scan.poses = POSES;
+    let poses = plan_border_scan(&border_b, &scan, &world.mount);
+
+    let run = |seeds: &[u64], photons: u64| {
+        let t = Instant::now();
+        let s = sample_profiles(&trace, &head, &poses, seeds, photons, MAX_DEPTH);
+        let per_profile = t.elapsed().as_secs_f64() / s.len() as f64;
+        (s, per_profile)
+    };
+    let reference_file = out.join("reference.json");
+    let (reference, reference_other): (Vec<ProfileSample>, Vec<ProfileSample>) =
+        match std::fs::read_to_string(&reference_file) {
+            Ok(text) => serde_json::from_str::<(Vec<_>, Vec<_>)>(&text).unwrap(),
+            Err(_) => {
+                let (a, ta) = run(&SEEDS_A, REFERENCE_PHOTONS);
+                let (b, _) = run(&SEEDS_B, REFERENCE_PHOTONS);
+                eprintln!("reference 2^22: {ta:.2} s per profile");
+                std::fs::write(&reference_file, serde_json::to_string(&(&a, &b)).unwrap()).unwrap();
+                (a, b)
+            }
+        };
+    let mut rows = Vec::new();
+    println!(
+        "photons   KS D   KS p   BIPs agreeing  MC z (µm)  noise z (µm)  converged  s/profile"
+    );
+    for &n in &photon_counts {
+        let (same, t_same) = run(&SEEDS_A, n);
+        let (independent, t_ind) = run(&SEEDS_C, n);
+        let v = judge(&reference, &reference_other, &same, &independent);
+        let s_per_profile = 0.5 * (t_same + t_ind);
+        println!(
+            "2^{:<5} {:6.3} {:6.3} {:13.3} {:10.2} {:13.2} {:>10} {:10.3}",
+            n.trailing_zeros(),
+            v.ks_statistic,
+            v.ks_p_value,
+            v.bip_match_fraction,
+            v.monte_carlo_z_mm * 1e3,
+            v.sensor_noise_z_mm * 1e3,
+            v.converged,
+            s_per_profile
+        );
+        rows.push(json!({
+            "photons": n,
+            "verdict": v,
+            "wall_s_per_profile": s_per_profile,
+            "bip_error_mm": independent.iter().map(|s| s.bip_error_mm).collect::<Vec<_>>(),
+        }));
+    }
+    let summary = json!({
+        "scene": scene_path,
+        "scan_angle_deg": angle_deg.parse::<f64>().unwrap(),
+        "poses": POSES,
+        "reference_photons": REFERENCE_PHOTONS,
+        "seeds": {"reference": SEEDS_A, "reference_other": SEEDS_B, "independent": SEEDS_C},
+        "reference_bip_error_mm": reference.iter().map(|s| s.bip_error_mm).collect::<Vec<_>>(),
+        "threads": rayon::current_num_threads(),
+        "rows": rows,
+    });
+    std::fs::write(
+        out.join("summary.json"),
+        serde_json::to_string_pretty(&summary).unwrap(),
+    )
+    .unwrap();
+}

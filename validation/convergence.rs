@@ -1,0 +1,58 @@
+//! The convergence test (issue 11; `glassscan::study::convergence` states it): the default
+//! photon count of `scan` and `dataset` (2^20) must give profiles that cannot be told from a
+//! 2^22-photon reference, and a photon count known to be too low (2^14) must fail, so the test
+//! has the power to see a difference. Slow tier (`cargo test --release -- --ignored`, ~2 min on
+//! 2 cores): the committed references were made by `examples/convergence.rs` (which documents
+//! the seeds and poses), and must be regenerated with it when the physics changes.
+
+use std::path::Path;
+
+use glassscan::scan::poses::plan_border_scan;
+use glassscan::scene;
+use glassscan::sensor::SensorHead;
+use glassscan::study::convergence::{judge, sample_profiles, ProfileSample, Verdict};
+use glassscan::transport::TraceScene;
+
+/// The example's settings (examples/convergence.rs).
+const POSES: usize = 8;
+const MAX_DEPTH: u32 = 64;
+const SEEDS_A: [u64; 2] = [11, 12];
+const SEEDS_C: [u64; 2] = [31, 32];
+
+fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Verdict {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(
+        root.join("validation/results/convergence")
+            .join(results)
+            .join("reference.json"),
+    )
+    .expect("the committed reference (examples/convergence.rs makes it)");
+    let (reference, reference_other): (Vec<ProfileSample>, Vec<ProfileSample>) =
+        serde_json::from_str(&text).unwrap();
+    let world = scene::load(&root.join("scenes").join(scene_name)).unwrap();
+    let head = SensorHead::new(&world.sensor).unwrap();
+    let trace = TraceScene::new(&world).unwrap();
+    let target = world.target.as_ref().unwrap();
+    let border_b = target
+        .border
+        .transformed(&world.objects[target.object].pose);
+    let mut scan = world.scan;
+    scan.scan_angle_rad = angle_deg.to_radians();
+    scan.poses = POSES;
+    let poses = plan_border_scan(&border_b, &scan, &world.mount);
+    let same = sample_profiles(&trace, &head, &poses, &SEEDS_A, photons, MAX_DEPTH);
+    let independent = sample_profiles(&trace, &head, &poses, &SEEDS_C, photons, MAX_DEPTH);
+    let v = judge(&reference, &reference_other, &same, &independent);
+    eprintln!(
+        "{scene_name} at {angle_deg}°, 2^{}: {v:?}",
+        photons.trailing_zeros()
+    );
+    v
+}
+
+#[test]
+#[ignore = "slow tier: ~1 min on 2 cores"]
+fn the_default_photon_count_is_converged_on_edge_study_bare_at_40_degrees() {
+    assert!(verdict("edge_study_bare.toml", 40.0, "edge_study_bare", 1 << 20).converged);
+    assert!(!verdict("edge_study_bare.toml", 40.0, "edge_study_bare", 1 << 14).converged);
+}
