@@ -77,10 +77,17 @@ impl Stokes {
             "the current frame must be ⊥ to the direction of propagation"
         );
         let new_frame = perpendicular_unit(dir, new_frame);
-        let theta = dir
-            .dot(&self.frame.cross(&new_frame))
-            .atan2(self.frame.dot(&new_frame));
-        self.s = apply(&rotator(theta), &self.s);
+        // The rotator of `rotator(θ)` needs only cos 2θ and sin 2θ, and cos θ, sin θ are the
+        // two dot products: the double-angle identities replace atan2 and sin_cos (13 % of a
+        // glass profile's time, issue 11), equal to the matrix form to rounding (tested).
+        let (c, s) = (
+            self.frame.dot(&new_frame),
+            dir.dot(&self.frame.cross(&new_frame)),
+        );
+        let r2 = c * c + s * s;
+        let (c2, s2) = ((c * c - s * s) / r2, 2.0 * c * s / r2);
+        let [i, q, u, v] = self.s;
+        self.s = [i, c2 * q + s2 * u, -s2 * q + c2 * u, v];
         self.frame = new_frame;
     }
 
@@ -203,6 +210,32 @@ pub fn compose(a: &Mueller, b: &Mueller) -> Mueller {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rotate_frame_equals_the_rotator_of_the_frame_angle() {
+        // The double-angle form against atan2 + `rotator`, at angles in every quadrant.
+        let dir = Vector3::new(0.3, -0.2, 0.9).normalize();
+        let e1 = perpendicular_unit(&dir, &Vector3::x());
+        let e2 = dir.cross(&e1);
+        for k in 0..24 {
+            let theta = -3.1 + k as f64 * 0.27;
+            let target = e1 * theta.cos() + e2 * theta.sin();
+            let mut a = Stokes {
+                s: [1.0, 0.3, -0.5, 0.2],
+                frame: e1,
+            };
+            a.rotate_frame(&dir, &(target * 2.5 + dir * 0.7));
+            let expected = apply(&rotator(theta), &[1.0, 0.3, -0.5, 0.2]);
+            for (x, y) in a.s.iter().zip(expected) {
+                assert!(
+                    (x - y).abs() < 1e-14,
+                    "θ = {theta}: {:?} vs {expected:?}",
+                    a.s
+                );
+            }
+            assert!((a.frame - target).norm() < 1e-14);
+        }
+    }
     use crate::optics::fresnel::fresnel_dielectric;
 
     #[test]
