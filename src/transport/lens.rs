@@ -86,6 +86,16 @@ impl<'a> Aperture<'a> {
         distance_to_quad([q.x, q.z], &self.grid_in_laser_plane) <= reach + LANDING_MARGIN_M
     }
 
+    /// Whether `p` lies more than `margin` (m) from the region the camera looks at: off the
+    /// laser plane by more than `margin`, or farther than `margin` within it from the pixel
+    /// grid's footprint. Light there can still reach the camera (a mirror image in a pane, a
+    /// return after a long path), so this only says where Russian roulette may thin photons out
+    /// without touching what the camera sees directly.
+    pub fn far_from_view(&self, p: &Point3<f64>, margin: f64) -> bool {
+        let q = self.inverse_pose * p;
+        q.y.abs() > margin || distance_to_quad([q.x, q.z], &self.grid_in_laser_plane) > margin
+    }
+
     /// Aperture area (m²).
     pub fn area(&self) -> f64 {
         self.camera.aperture_area()

@@ -13,7 +13,7 @@ use crate::geometry::mesh::SurfacePart;
 use crate::geometry::pose::Pose;
 use crate::optics::lambert::Lambertian;
 use crate::optics::polarization::Stokes;
-use crate::optics::uniform_stream::KeyedStream;
+use crate::optics::uniform_stream::{KeyedStream, UniformSource};
 use crate::optics::warp::concentric_disk;
 use crate::sampler::PoseSampler;
 use crate::sensor::path_class::PathClass;
@@ -68,6 +68,8 @@ pub struct TraceStats {
     pub glints: u64,
     /// Paths stopped at `max_depth` while still carrying power.
     pub truncated: u64,
+    /// Photons ended by the Russian roulette far from the camera's view.
+    pub rouletted: u64,
     /// Total flux splatted on the sensor (W).
     pub flux_on_sensor_w: f64,
     /// Power of paths stopped at `max_depth` (W): an upper bound on the truncation bias.
@@ -91,11 +93,24 @@ impl TraceStats {
         self.off_sensor += o.off_sensor;
         self.glints += o.glints;
         self.truncated += o.truncated;
+        self.rouletted += o.rouletted;
         self.flux_on_sensor_w += o.flux_on_sensor_w;
         self.truncated_power_w += o.truncated_power_w;
         self.absorbed_w += o.absorbed_w;
     }
 }
+
+/// Russian roulette far from the view plays where a photon meets a surface more than this far
+/// from the region the camera looks at (`Aperture::far_from_view`): 50 mm, beyond what the
+/// camera sees of the laser plane's neighbourhood through its lens at the triangulation angle.
+const ROULETTE_MARGIN_M: f64 = 0.05;
+
+/// The survival probability of that roulette: a survivor carries 8× its flux, so a rare one
+/// that comes back into view adds a small spike, not a firefly.
+const ROULETTE_SURVIVAL: f64 = 0.125;
+
+/// Key word of the roulette's own random stream.
+const ROULETTE_KEY: u64 = 0x726f_756c_6574_7465;
 
 /// Sampler dimensions used per surface interaction beyond the laser's own.
 const DIMS_PER_VERTEX: u32 = 8;
@@ -168,6 +183,8 @@ struct Photon {
     /// The photon has been reflected by a glass surface (a face's Fresnel reflection or the
     /// edge's back-scatter), from outside or inside.
     reflected_by_glass: bool,
+    /// The photon has passed the Russian roulette far from the view (it plays once).
+    rouletted: bool,
 }
 
 impl Photon {
@@ -227,6 +244,7 @@ impl Tracer<'_> {
             crossed_glass: false,
             internal_reflection: false,
             reflected_by_glass: false,
+            rouletted: false,
         };
 
         for depth in 0..self.settings.max_depth {
@@ -245,6 +263,28 @@ impl Tracer<'_> {
             let Some(hit) = hit else { return };
             if depth == 0 {
                 self.stats.laser_hits += 1;
+            }
+            // Russian roulette, once per photon, where it first meets a surface far from the
+            // camera's view (light trapped in a pane by total internal reflection running to
+            // the far edges; the table beyond the view): it continues with probability
+            // ROULETTE_SURVIVAL and its flux divided by it, so every estimate keeps its mean
+            // (Arvo & Kirk, "Particle transport and image synthesis", SIGGRAPH 1990). Its own
+            // keyed stream leaves every other random number as it was.
+            if !photon.rouletted && self.aperture.far_from_view(&hit.point, ROULETTE_MARGIN_M) {
+                photon.rouletted = true;
+                let u = KeyedStream::new(&[
+                    self.settings.seed,
+                    self.pose_index,
+                    i,
+                    depth as u64,
+                    ROULETTE_KEY,
+                ])
+                .next_uniform();
+                if u >= ROULETTE_SURVIVAL {
+                    self.stats.rouletted += 1;
+                    return;
+                }
+                photon.flux /= ROULETTE_SURVIVAL;
             }
             self.stats.vertices += 1;
             let base = 1 + depth * DIMS_PER_VERTEX;
