@@ -204,6 +204,35 @@ mod tests {
     }
 
     #[test]
+    fn the_roulette_region_starts_beyond_the_margin_around_the_grid_footprint() {
+        // Points of the laser plane that image onto the grid are never far from the view;
+        // 60 mm off the plane, or 60 mm beyond the footprint within it, always are.
+        let head = SensorHead::new(&scancontrol_2600_100()).unwrap();
+        let ap = Aperture::new(&head.camera, &Pose::identity());
+        let quad = ap.grid_in_laser_plane;
+        for i in 0..400u64 {
+            let f = |k: u64| ((i * 7919 + k * 104_729) as f64 * 0.618_033_988_749_895).fract();
+            // A point inside the footprint: a convex combination of its corners.
+            let (a, b) = (f(1), f(2));
+            let lerp = |p: [f64; 2], q: [f64; 2], t: f64| {
+                [p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]
+            };
+            let inside = lerp(lerp(quad[0], quad[1], a), lerp(quad[3], quad[2], a), b);
+            let on_plane = Point3::new(inside[0], 0.0, inside[1]);
+            assert!(!ap.far_from_view(&on_plane, 0.05), "{on_plane}");
+            let off = Point3::new(inside[0], 0.06 * (2.0 * f(3) - 1.0).signum(), inside[1]);
+            assert!(ap.far_from_view(&off, 0.05), "{off}");
+        }
+        let beyond = Point3::new(
+            quad[1][0] + 0.06 + 0.05,
+            0.0,
+            0.5 * (quad[1][1] + quad[2][1]),
+        );
+        assert!(distance_to_quad([beyond.x, beyond.z], &quad) > 0.05);
+        assert!(ap.far_from_view(&beyond, 0.05));
+    }
+
+    #[test]
     fn directions_inside_the_cone_that_land_are_never_ruled_out() {
         // The cone version: any direction within γ of the straight line that lands on the
         // grid must leave `can_land` true, for cones from 0.1° to 10°.

@@ -23,8 +23,8 @@ pub struct CoverSpec {
     /// Height of its top above the top face (m), > `gap_m`. Default 10 mm.
     pub height_m: f64,
     /// Air gap between the top face and its bottom (m), > 0. Default 0.01 mm: surfaces of
-    /// different objects must not coincide (a ray leaving one of
-    /// two coincident faces cannot tell which it meets first).
+    /// different objects must not coincide (a ray leaving one of two coincident faces
+    /// cannot tell which it meets first).
     pub gap_m: f64,
 }
 

@@ -31,8 +31,8 @@ pub struct TapeSpec {
     /// Tape thickness (m), > 0. Default 0.1 mm, a typical paper masking tape.
     pub thickness_m: f64,
     /// Air gap between glass and tape (m), > 0. Default 0.01 mm: surfaces of different
-    /// objects must not coincide (a ray leaving one of
-    /// two coincident faces cannot tell which it meets first).
+    /// objects must not coincide (a ray leaving one of two coincident faces cannot tell
+    /// which it meets first).
     pub gap_m: f64,
     /// How far the tape reaches onto the top face, inwards of the border (m), > 0. Default
     /// 20 mm, as the hand-placed strips had.
