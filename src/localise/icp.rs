@@ -2,7 +2,8 @@
 //!
 //! Formulation: the model stays in its frame M and the BIPs are moved into it. With the current
 //! estimate T_MB = T_BM⁻¹, each BIP p_i (frame B) becomes x_i = T_MB·p_i; its closest point q_i
-//! on the border polyline ([`closest_on_border`]) gives the ICP normal
+//! on the border polyline ([`super::nearest::closest_on_border`], through the exact
+//! [`SegmentGrid`]) gives the ICP normal
 //! n_i = normalize(surface normal + outward edge normal) and the segment tangent t_i. Each point
 //! contributes two point-to-plane residuals, r = m·(x_i − q_i) for m = n_i and m = b_i =
 //! n_i × t_i: the planes through the border's local tangent line, i.e. point-to-line. Gauss–Newton
@@ -36,7 +37,7 @@
 
 use nalgebra::{Isometry3, Matrix6, Point3, SymmetricEigen, Translation3, Vector3, Vector6};
 
-use super::nearest::closest_on_border;
+use super::nearest::SegmentGrid;
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 
@@ -141,12 +142,15 @@ pub fn register(
     settings: &IcpSettings,
 ) -> Result<Registration, IcpError> {
     validate(model, points_b, initial)?;
+    // Built once per registration: every iteration's closest points come from it, exactly as
+    // the brute-force search would give them.
+    let grid = SegmentGrid::new(model);
     let mut t_mb = initial.inverse();
     let mut tukey_stage = settings.huber_mm.is_none() && settings.tukey_mm.is_some();
     let mut iterations = 0;
     let mut converged = false;
     while iterations < settings.max_iterations {
-        let system = build_system(model, points_b, &t_mb, settings, tukey_stage);
+        let system = build_system(model, &grid, points_b, &t_mb, settings, tukey_stage);
         let (omega, v) = system.solve(settings.min_condition);
         t_mb = system.apply(omega, v) * t_mb;
         iterations += 1;
@@ -163,7 +167,7 @@ pub fn register(
         }
     }
     let tukey_final = settings.tukey_mm.is_some();
-    let system = build_system(model, points_b, &t_mb, settings, tukey_final);
+    let system = build_system(model, &grid, points_b, &t_mb, settings, tukey_final);
     let eigen = system.eigen();
     let (condition, weak) = conditioning(&eigen, settings.min_condition);
     let inliers: Vec<bool> = system.weights.iter().map(|&w| w > 0.0).collect();
@@ -232,13 +236,14 @@ struct System {
 
 fn build_system(
     model: &BorderCurve,
+    grid: &SegmentGrid,
     points_b: &[Point3<f64>],
     t_mb: &Pose,
     settings: &IcpSettings,
     tukey_stage: bool,
 ) -> System {
     let xs: Vec<Point3<f64>> = points_b.iter().map(|p| t_mb * p).collect();
-    let closest: Vec<_> = xs.iter().map(|x| closest_on_border(model, x)).collect();
+    let closest: Vec<_> = xs.iter().map(|x| grid.closest(model, x)).collect();
     let distances: Vec<f64> = closest.iter().map(|c| c.distance).collect();
     let weights: Vec<f64> = distances
         .iter()
