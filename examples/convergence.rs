@@ -46,10 +46,7 @@ fn main() {
     });
     let head = SensorHead::new(&world.sensor).unwrap();
     let trace = TraceScene::new(&world).unwrap();
-    let target = world.target.as_ref().unwrap();
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border_b = world.true_border_in_base().expect("the scene has a target");
     let mut scan = world.scan;
     scan.scan_angle_rad = angle_deg.parse::<f64>().unwrap().to_radians();
     scan.poses = POSES;

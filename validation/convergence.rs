@@ -32,10 +32,7 @@ fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Ver
     let world = scene::load(&root.join("scenes").join(scene_name)).unwrap();
     let head = SensorHead::new(&world.sensor).unwrap();
     let trace = TraceScene::new(&world).unwrap();
-    let target = world.target.as_ref().unwrap();
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border_b = world.true_border_in_base().expect("the scene has a target");
     let mut scan = world.scan;
     scan.scan_angle_rad = angle_deg.to_radians();
     scan.poses = POSES;

@@ -129,10 +129,7 @@ fn mixed_pixels_the_selection_mode_decides_between_pane_and_background() {
     use glassscan::sensor::profile::PeakSelect;
     let mut world = scene::load(&scene_path("mixed_pixels.toml")).unwrap();
     let trace = TraceScene::new(&world).unwrap();
-    let target = world.target.as_ref().unwrap();
-    let border = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border = world.true_border_in_base().expect("the scene has a target");
     let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
     let settings = TraceSettings {
         photons: 1 << 19,
@@ -198,10 +195,7 @@ fn car_window_edge_line_bips_find_p_e_where_the_highest_point_does_not() {
     let world = scene::load(&scene_path("car_side_window.toml")).unwrap();
     let head = SensorHead::new(&world.sensor).unwrap();
     let trace = TraceScene::new(&world).unwrap();
-    let target = world.target.as_ref().unwrap();
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border_b = world.true_border_in_base().expect("the scene has a target");
     let mut scan = world.scan;
     scan.poses = 3;
     let settings = TraceSettings {
@@ -263,10 +257,7 @@ fn skipping_connections_that_cannot_land_changes_no_image() {
             .expect("shipped panes have rough edges: a bound");
         let mut exhaustive = TraceScene::new(&world).unwrap();
         exhaustive.deviation = None;
-        let target = world.target.as_ref().unwrap();
-        let border = target
-            .border
-            .transformed(&world.objects[target.object].pose);
+        let border = world.true_border_in_base().expect("the scene has a target");
         let poses = plan_border_scan(&border, &world.scan, &world.mount);
         let settings = TraceSettings {
             photons: 1 << 15,
@@ -313,10 +304,7 @@ fn edge_study_tape_is_read_on_its_surface_at_10_and_40_degrees() {
     let trace = TraceScene::new(&world).unwrap();
     let tape = world.objects.iter().find(|o| o.name == "tape").unwrap();
     let tape_b = tape.mesh.transformed(&tape.pose);
-    let target = world.target.as_ref().unwrap();
-    let border = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border = world.true_border_in_base().expect("the scene has a target");
     let settings = TraceSettings {
         photons: 1 << 16,
         max_depth: 16,
@@ -397,10 +385,7 @@ fn edge_line_bips_land_on_p_e_on_simulated_flat_seamed_and_pencil_edges() {
         let world = scene::load_str(&scene_path("edge_study.toml"), &scene_text).unwrap();
         let head = SensorHead::new(&world.sensor).unwrap();
         let trace = TraceScene::new(&world).unwrap();
-        let target = world.target.as_ref().unwrap();
-        let border_b = target
-            .border
-            .transformed(&world.objects[target.object].pose);
+        let border_b = world.true_border_in_base().expect("the scene has a target");
         for angle_deg in [10.0f64, 40.0] {
             let mut scan = world.scan;
             scan.scan_angle_rad = angle_deg.to_radians();
@@ -456,10 +441,7 @@ fn the_paper_scan_angle_finding_holds_at_a_short_exposure_and_not_at_the_default
     use glassscan::study::finding_map::{HOLDS_MARGIN_MM, HOLDS_RATIO};
     let mut world = scene::load(&scene_path("edge_study.toml")).unwrap();
     let trace = TraceScene::new(&world).unwrap();
-    let target = world.target.as_ref().unwrap();
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border_b = world.true_border_in_base().expect("the scene has a target");
     let settings = TraceSettings {
         photons: 1 << 18,
         max_depth: 16,

@@ -146,10 +146,9 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
     let trace_scene = TraceScene::new(world).map_err(CliError::input)?;
     output_dir::prepare_output_dir(&cfg.out, cfg.force).map_err(CliError::input)?;
 
-    let target = world.target.as_ref().expect("resolve() checked the target");
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
+    let border_b = world
+        .true_border_in_base()
+        .expect("resolve() checked the target");
     let poses = plan_border_scan(&border_b, &cfg.scan, &world.mount);
     let adc_bits = world.sensor.imager.adc_bits;
 

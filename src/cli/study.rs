@@ -110,7 +110,7 @@ fn sibling(bare: &Path, variant: Variant) -> PathBuf {
 /// Loads a variant's scene and prepares it for tracing.
 fn setup(path: &Path, variant: Variant) -> Result<(VariantSetup, scene::World), CliError> {
     let world = scene::load(path).map_err(CliError::input)?;
-    let Some(target) = world.target.as_ref() else {
+    let Some(border_b) = world.true_border_in_base() else {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `study scan-angle` needs a panel whose border it scans",
             path.display()
@@ -120,9 +120,6 @@ fn setup(path: &Path, variant: Variant) -> Result<(VariantSetup, scene::World), 
         .with_context(|| format!("{}: [sensor]", path.display()))
         .map_err(CliError::input)?;
     let scene = TraceScene::new(&world).map_err(CliError::input)?;
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
     let s = VariantSetup {
         variant,
         scene,

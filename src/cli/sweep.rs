@@ -83,7 +83,7 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
         thresholds,
         peak_selects: peak_selects.unwrap_or_else(|| vec![world.sensor.firmware.peak_select]),
     };
-    let Some(target) = world.target.as_ref() else {
+    let Some(border_b) = world.true_border_in_base() else {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `sweep` needs a panel whose border it scans",
             args.scene.display()
@@ -96,9 +96,6 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
     if let Some(out) = &args.output.out {
         output_dir::prepare_output_dir(out, args.output.force).map_err(CliError::input)?;
     }
-    let border_b = target
-        .border
-        .transformed(&world.objects[target.object].pose);
     let mut scan = world.scan;
     if let Some(n) = args.poses {
         scan.poses = n;

@@ -141,6 +141,13 @@ pub struct World {
 pub const OPAQUE_COPY_ALBEDO: f64 = 0.5;
 
 impl World {
+    /// The target's border curve in the base frame, at the target's true pose (where p_e
+    /// lies); `None` without a target.
+    pub fn true_border_in_base(&self) -> Option<BorderCurve> {
+        let target = self.target.as_ref()?;
+        Some(target.border.transformed(&self.objects[target.object].pose))
+    }
+
     /// The same scene with the target made of an opaque Lambertian material of `albedo`
     /// (same mesh, pose and border): the paper's opaque-object comparison. `None` without a
     /// target.

@@ -104,10 +104,9 @@ pub fn run_finding_map(
                 .map_err(|m| format!("arris width {w} mm, roughness {alpha}: {m}"))?;
             let scene = TraceScene::new(&world).map_err(|e| e.to_string())?;
             let head = SensorHead::new(&world.sensor).map_err(|e| e.to_string())?;
-            let target = world.target.as_ref().ok_or("the scene has no [target]")?;
-            let border_b = target
-                .border
-                .transformed(&world.objects[target.object].pose);
+            let border_b = world
+                .true_border_in_base()
+                .ok_or("the scene has no [target]")?;
             let heads: Vec<SensorHead> = cfg
                 .exposures_s
                 .iter()
