@@ -116,11 +116,11 @@ fn located<'a>(
 
 #[cfg(test)]
 mod tests {
-    use std::path::Path;
 
     use crate::geometry::mesh::SurfacePart;
+    use crate::scene::test_scene;
     use crate::scene::world::World;
-    use crate::scene::{load_str, SceneError};
+    use crate::scene::SceneError;
 
     const BASE: &str = r#"[materials.glass]
 kind = "glass"
@@ -161,22 +161,15 @@ preset = "scancontrol-2600-100"
 "#;
 
     fn load(fitted: &str) -> Result<World, SceneError> {
-        load_str(Path::new("bad.toml"), &BASE.replace("FITTED", fitted))
+        test_scene::load_text(&BASE.replace("FITTED", fitted))
     }
 
     fn at(fitted: &str, needle: &str) -> String {
-        let text = BASE.replace("FITTED", fitted);
-        let offset = text.find(needle).expect("needle in the scene");
-        let line = text[..offset].matches('\n').count() + 1;
-        let column = offset - text[..offset].rfind('\n').map_or(0, |i| i + 1) + 1;
-        format!("bad.toml:{line}:{column}:")
+        test_scene::location_of(&BASE.replace("FITTED", fitted), needle)
     }
 
     fn error(fitted: &str) -> String {
-        match load(fitted) {
-            Ok(_) => panic!("{fitted} loaded"),
-            Err(e) => e.to_string(),
-        }
+        test_scene::load_error(&BASE.replace("FITTED", fitted))
     }
 
     #[test]
@@ -258,7 +251,7 @@ preset = "scancontrol-2600-100"
             "material = \"glass\"\nlabel",
             1,
         );
-        let m = load_str(Path::new("bad.toml"), &glass)
+        let m = test_scene::load_text(&glass)
             .map(|_| ())
             .unwrap_err()
             .to_string();
@@ -269,7 +262,7 @@ preset = "scancontrol-2600-100"
         let target = BASE
             .replace("FITTED", f)
             .replace("object = \"pane\"", "object = \"strip\"");
-        let m = load_str(Path::new("bad.toml"), &target)
+        let m = test_scene::load_text(&target)
             .map(|_| ())
             .unwrap_err()
             .to_string();

@@ -24,6 +24,8 @@ mod load;
 mod material;
 mod panel;
 mod sensor_overrides;
+#[cfg(test)]
+mod test_scene;
 pub mod world;
 
 pub use error::SceneError;

@@ -310,10 +310,10 @@ fn seamed_location(
 
 #[cfg(test)]
 mod tests {
-    use std::path::Path;
 
+    use crate::scene::test_scene;
     use crate::scene::world::World;
-    use crate::scene::{load_str, SceneError};
+    use crate::scene::SceneError;
 
     const BASE: &str = r#"[materials.glass]
 kind = "glass"
@@ -338,23 +338,16 @@ preset = "scancontrol-2600-100"
 "#;
 
     fn load(edge: &str) -> Result<World, SceneError> {
-        load_str(Path::new("bad.toml"), &BASE.replace("EDGE", edge))
+        test_scene::load_text(&BASE.replace("EDGE", edge))
     }
 
     /// `bad.toml:line:column:` of the first `needle` in the scene with `edge`.
     fn at(edge: &str, needle: &str) -> String {
-        let text = BASE.replace("EDGE", edge);
-        let offset = text.find(needle).expect("needle in the scene");
-        let line = text[..offset].matches('\n').count() + 1;
-        let column = offset - text[..offset].rfind('\n').map_or(0, |i| i + 1) + 1;
-        format!("bad.toml:{line}:{column}:")
+        test_scene::location_of(&BASE.replace("EDGE", edge), needle)
     }
 
     fn error(edge: &str) -> String {
-        match load(edge) {
-            Ok(_) => panic!("{edge} loaded"),
-            Err(e) => e.to_string(),
-        }
+        test_scene::load_error(&BASE.replace("EDGE", edge))
     }
 
     /// The border's inset (m) from the 300 × 200 mm outline, on the straight side at x > 0.
@@ -484,7 +477,7 @@ preset = "scancontrol-2600-100"
         let text = BASE
             .replace("thickness_mm = 4", "thickness_mm = 1")
             .replace("EDGE", "");
-        let m = load_str(Path::new("bad.toml"), &text)
+        let m = test_scene::load_text(&text)
             .map(|_| ())
             .unwrap_err()
             .to_string();
@@ -496,7 +489,7 @@ preset = "scancontrol-2600-100"
         let text = BASE
             .replace("corner_radius_mm = 10", "corner_radius_mm = 0.5")
             .replace("EDGE", "");
-        let m = load_str(Path::new("bad.toml"), &text)
+        let m = test_scene::load_text(&text)
             .map(|_| ())
             .unwrap_err()
             .to_string();
