@@ -8,7 +8,8 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glassscan::geometry::border::{BorderCurve, BorderVertex};
 use glassscan::geometry::pose::pose_from_mm_deg;
-use glassscan::localise::icp::{register, IcpSettings};
+use glassscan::localise::icp::{register, register_on_grid, IcpSettings};
+use glassscan::localise::nearest::SegmentGrid;
 use nalgebra::{Point3, Vector3};
 use std::f64::consts::FRAC_PI_2;
 
@@ -70,6 +71,11 @@ fn bench_icp(c: &mut Criterion) {
     group.throughput(Throughput::Elements(bips.len() as u64));
     group.bench_function("register_12_bips_484_segments", |b| {
         b.iter(|| register(&model, &bips, &nominal, &settings).expect("valid input"))
+    });
+    // Many registrations against one model (a sweep, a Monte Carlo study) build its grid once.
+    let grid = SegmentGrid::new(&model);
+    group.bench_function("register_12_bips_484_segments_grid_built", |b| {
+        b.iter(|| register_on_grid(&model, &grid, &bips, &nominal, &settings).expect("valid input"))
     });
     group.finish();
 }

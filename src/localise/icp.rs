@@ -37,7 +37,7 @@
 
 use nalgebra::{Isometry3, Matrix6, Point3, SymmetricEigen, Translation3, Vector3, Vector6};
 
-use super::nearest::SegmentGrid;
+use super::nearest::{ClosestPoint, SegmentGrid};
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 
@@ -145,12 +145,47 @@ pub fn register(
     // Built once per registration: every iteration's closest points come from it, exactly as
     // the brute-force search would give them.
     let grid = SegmentGrid::new(model);
+    register_valid(model, &grid, points_b, initial, settings)
+}
+
+/// [`register`] with the model's [`SegmentGrid`] built by the caller, for many registrations
+/// against one model (a sweep, a Monte Carlo study of ICP): the same result bit for bit, minus
+/// the grid's build. `grid` must have been built on `model`.
+pub fn register_on_grid(
+    model: &BorderCurve,
+    grid: &SegmentGrid,
+    points_b: &[Point3<f64>],
+    initial: &Pose,
+    settings: &IcpSettings,
+) -> Result<Registration, IcpError> {
+    validate(model, points_b, initial)?;
+    register_valid(model, grid, points_b, initial, settings)
+}
+
+/// The Gauss–Newton iterations on input that [`validate`] accepted.
+fn register_valid(
+    model: &BorderCurve,
+    grid: &SegmentGrid,
+    points_b: &[Point3<f64>],
+    initial: &Pose,
+    settings: &IcpSettings,
+) -> Result<Registration, IcpError> {
     let mut t_mb = initial.inverse();
     let mut tukey_stage = settings.huber_mm.is_none() && settings.tukey_mm.is_some();
     let mut iterations = 0;
     let mut converged = false;
+    // Per-point buffers allocated once and refilled every iteration.
+    let mut work = Workspace::with_capacity(points_b.len());
     while iterations < settings.max_iterations {
-        let system = build_system(model, &grid, points_b, &t_mb, settings, tukey_stage);
+        let system = build_system(
+            model,
+            &grid,
+            points_b,
+            &t_mb,
+            settings,
+            tukey_stage,
+            &mut work,
+        );
         let (omega, v) = system.solve(settings.min_condition);
         t_mb = system.apply(omega, v) * t_mb;
         iterations += 1;
@@ -167,12 +202,20 @@ pub fn register(
         }
     }
     let tukey_final = settings.tukey_mm.is_some();
-    let system = build_system(model, &grid, points_b, &t_mb, settings, tukey_final);
+    let system = build_system(
+        model,
+        &grid,
+        points_b,
+        &t_mb,
+        settings,
+        tukey_final,
+        &mut work,
+    );
     let eigen = system.eigen();
     let (condition, weak) = conditioning(&eigen, settings.min_condition);
-    let inliers: Vec<bool> = system.weights.iter().map(|&w| w > 0.0).collect();
+    let inliers: Vec<bool> = work.weights.iter().map(|&w| w > 0.0).collect();
     let n_in = inliers.iter().filter(|&&b| b).count();
-    let sum_d2: f64 = (system.distances.iter().zip(&inliers))
+    let sum_d2: f64 = (work.distances.iter().zip(&inliers))
         .filter(|(_, &inlier)| inlier)
         .map(|(d, _)| d * d)
         .sum();
@@ -230,8 +273,26 @@ struct System {
     g: Vector6<f64>,
     centroid: Point3<f64>,
     scale: f64,
-    weights: Vec<f64>,
+}
+
+/// The per-point quantities of one iteration: moved points, their closest points on the
+/// model, distances and IRLS weights.
+struct Workspace {
+    xs: Vec<Point3<f64>>,
+    closest: Vec<ClosestPoint>,
     distances: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl Workspace {
+    fn with_capacity(n: usize) -> Self {
+        Workspace {
+            xs: Vec::with_capacity(n),
+            closest: Vec::with_capacity(n),
+            distances: Vec::with_capacity(n),
+            weights: Vec::with_capacity(n),
+        }
+    }
 }
 
 fn build_system(
@@ -241,21 +302,33 @@ fn build_system(
     t_mb: &Pose,
     settings: &IcpSettings,
     tukey_stage: bool,
+    work: &mut Workspace,
 ) -> System {
-    let xs: Vec<Point3<f64>> = points_b.iter().map(|p| t_mb * p).collect();
-    let closest: Vec<_> = xs.iter().map(|x| grid.closest(model, x)).collect();
-    let distances: Vec<f64> = closest.iter().map(|c| c.distance).collect();
-    let weights: Vec<f64> = distances
-        .iter()
-        .map(|&d| weight(d * 1e3, settings, tukey_stage))
-        .collect();
+    let Workspace {
+        xs,
+        closest,
+        distances,
+        weights,
+    } = work;
+    xs.clear();
+    xs.extend(points_b.iter().map(|p| t_mb * p));
+    closest.clear();
+    closest.extend(xs.iter().map(|x| grid.closest(model, x)));
+    distances.clear();
+    distances.extend(closest.iter().map(|c| c.distance));
+    weights.clear();
+    weights.extend(
+        distances
+            .iter()
+            .map(|&d| weight(d * 1e3, settings, tukey_stage)),
+    );
     // Centroid and length scale of the weighted points, so that H is well scaled and its
     // eigenvalues compare rotations and translations in the same unit (m).
     let w_sum: f64 = weights.iter().sum();
     let centroid = if w_sum > 0.0 {
         Point3::from(
             xs.iter()
-                .zip(&weights)
+                .zip(weights.iter())
                 .map(|(x, w)| x.coords * *w)
                 .sum::<Vector3<f64>>()
                 / w_sum,
@@ -265,7 +338,7 @@ fn build_system(
     };
     let spread = if w_sum > 0.0 {
         xs.iter()
-            .zip(&weights)
+            .zip(weights.iter())
             .map(|(x, w)| w * (x - centroid).norm_squared())
             .sum::<f64>()
             / w_sum
@@ -275,7 +348,7 @@ fn build_system(
     let scale = spread.sqrt().max(1e-6);
     let mut h = Matrix6::zeros();
     let mut g = Vector6::zeros();
-    for ((x, c), &w) in xs.iter().zip(&closest).zip(&weights) {
+    for ((x, c), &w) in xs.iter().zip(closest.iter()).zip(weights.iter()) {
         if w == 0.0 {
             continue;
         }
@@ -294,8 +367,6 @@ fn build_system(
         g,
         centroid,
         scale,
-        weights,
-        distances,
     }
 }
 
@@ -423,6 +494,31 @@ mod tests {
             assert!(dt < 1e-3 && dr < 1e-3, "{dt} mm {dr}°");
             assert!(reg.iterations <= 10, "{} iterations", reg.iterations);
             assert!(reg.inliers.iter().all(|&b| b));
+        }
+    }
+
+    #[test]
+    fn a_grid_built_once_gives_the_same_registration_bit_for_bit() {
+        // One grid, several registrations (noisy points, one outlier, both kernels): each
+        // equals what `register` returns with its own grid.
+        let model = curved_pane();
+        let grid = SegmentGrid::new(&model);
+        for seed in 0..4 {
+            let s = PoseSampler::new(seed, 1);
+            let mut pts = bips(&model, 12, 0.05, 1.0);
+            for (i, p) in pts.iter_mut().enumerate() {
+                *p += Vector3::new(
+                    gaussian(&s, i as u64, 0, 2e-4),
+                    gaussian(&s, i as u64, 1, 2e-4),
+                    gaussian(&s, i as u64, 2, 2e-4),
+                );
+            }
+            pts[seed as usize].x += 0.01;
+            for settings in [IcpSettings::robust(), IcpSettings::least_squares()] {
+                let own = register(&model, &pts, &nominal(), &settings).unwrap();
+                let shared = register_on_grid(&model, &grid, &pts, &nominal(), &settings).unwrap();
+                assert_eq!(own, shared);
+            }
         }
     }
 
