@@ -179,7 +179,7 @@ fn register_valid(
     while iterations < settings.max_iterations {
         let system = build_system(
             model,
-            &grid,
+            grid,
             points_b,
             &t_mb,
             settings,
@@ -204,7 +204,7 @@ fn register_valid(
     let tukey_final = settings.tukey_mm.is_some();
     let system = build_system(
         model,
-        &grid,
+        grid,
         points_b,
         &t_mb,
         settings,
