@@ -1,5 +1,6 @@
-//! `glassscan dataset`, `merge` and `score` through the binary: a killed run resumes to the
-//! same bytes, shards merge to the one-shard dataset, the thread count changes nothing, the
+//! `glassscan dataset`, `merge`, `verify` and `score` through the binary: a killed run resumes
+//! to the same bytes, damaged samples are found by `verify`, refused by `merge` and made again
+//! by `--resume`, shards merge to the one-shard dataset, the thread count changes nothing, the
 //! randomised draws stay in their ranges, bad input exits with code 2, and scoring the ground
 //! truth itself gives 0.
 //!
@@ -286,6 +287,78 @@ fn killed_run_resumes_to_the_same_files() {
     assert_same_files(&tree(&out), &reference_tree());
 }
 
+/// Copies the directory tree `from` to `to`.
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let path = entry.unwrap().path();
+        let target = to.join(path.file_name().unwrap());
+        if path.is_dir() {
+            copy_tree(&path, &target);
+        } else {
+            std::fs::copy(&path, &target).unwrap();
+        }
+    }
+}
+
+/// Damages a finished dataset in every way the manifest's records must catch; returns the
+/// damaged paths (relative to `ds`).
+fn damage_dataset(ds: &Path) -> Vec<&'static str> {
+    let png = ds.join("sample_000001/image.png");
+    let len = std::fs::metadata(&png).unwrap().len();
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(&png)
+        .unwrap()
+        .set_len(len / 2)
+        .unwrap();
+    std::fs::remove_file(ds.join("sample_000002/ground_truth.json")).unwrap();
+    std::fs::write(ds.join("sample_000003/profile.csv"), "junk\n").unwrap();
+    std::fs::remove_dir_all(ds.join("sample_000004")).unwrap();
+    // Sample 5's line now points at another sample's files (same names, other content), as
+    // after a copy from another run.
+    std::fs::remove_dir_all(ds.join("sample_000005")).unwrap();
+    copy_tree(&ds.join("sample_000000"), &ds.join("sample_000005"));
+    vec![
+        "sample_000001/image.png",
+        "sample_000002/ground_truth.json",
+        "sample_000003/profile.csv",
+        "sample_000004",
+        "sample_000005/image.png",
+    ]
+}
+
+#[test]
+fn damaged_samples_are_found_by_verify_and_made_again_by_resume() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    copy_tree(&reference().join("ds"), &out);
+    let o = glassscan(&["verify", s(&out)], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+
+    let damaged = damage_dataset(&out);
+    let o = glassscan(&["verify", s(&out)], None);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let report = String::from_utf8_lossy(&o.stdout).into_owned();
+    for d in &damaged {
+        assert!(report.contains(d), "verify does not name {d}:\n{report}");
+    }
+    assert!(stderr(&o).contains("5 damaged"), "{}", stderr(&o));
+
+    // --resume makes exactly the damaged samples again, byte for byte as the first run did.
+    let o = glassscan(&run_args(&out, &["--resume", "--json"]), None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["damaged_samples"], 5, "{summary}");
+    assert_eq!(
+        (summary["kept"].clone(), summary["made"].clone()),
+        (1.into(), 5.into())
+    );
+    assert_same_files(&tree(&out), &reference_tree());
+    let o = glassscan(&["verify", s(&out)], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 #[test]
 fn two_shards_merged_equal_one_shard() {
     let tmp = tempfile::tempdir().unwrap();
@@ -310,6 +383,20 @@ fn two_shards_merged_equal_one_shard() {
         merged.remove(&name);
     }
     assert_same_files(&merged, &reference_tree());
+
+    // A damaged shard copy is refused, every damaged file named, the merged manifest kept.
+    let before = std::fs::read(out.join("manifest.jsonl")).unwrap();
+    let damaged = damage_dataset(&out);
+    let o = glassscan(&["merge", s(&out)], None);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    for d in &damaged {
+        assert!(
+            stderr(&o).contains(d),
+            "merge does not name {d}:\n{}",
+            stderr(&o)
+        );
+    }
+    assert_eq!(std::fs::read(out.join("manifest.jsonl")).unwrap(), before);
 }
 
 #[test]

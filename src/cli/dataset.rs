@@ -100,6 +100,9 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
             .map_err(CliError::from_dataset)?;
         bar.finish_and_clear();
         let elapsed_s = started.elapsed().as_secs_f64();
+        for d in &outcome.damage {
+            eprintln!("warning: damaged sample file, made again: {d}");
+        }
         if args.json {
             let summary = serde_json::json!({
                 "out": args.out.display().to_string(),
@@ -109,12 +112,20 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
                 "in_shard": outcome.in_shard,
                 "kept": outcome.kept,
                 "made": outcome.made,
+                "damaged_samples": outcome.damaged_samples,
+                "damage": outcome.damage,
                 "elapsed_s": elapsed_s,
             });
             super::print_json(&summary)?;
         } else {
+            let remade = if outcome.damaged_samples > 0 {
+                format!(" ({} of them again: damaged)", outcome.damaged_samples)
+            } else {
+                String::new()
+            };
             eprintln!(
-                "shard {shard}: made {} and kept {} of {} samples in {} ({:.1} s); manifest {}",
+                "shard {shard}: made {}{remade} and kept {} of {} samples in {} ({:.1} s); \
+                 manifest {}",
                 outcome.made,
                 outcome.kept,
                 outcome.in_shard,

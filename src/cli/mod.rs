@@ -16,6 +16,7 @@ mod scan;
 mod score;
 mod study;
 mod sweep;
+mod verify;
 
 use std::process::ExitCode;
 
@@ -58,6 +59,9 @@ pub enum Command {
     /// BIP error, valid fraction, saturation and wrong-surface fraction over a grid of scan
     /// angle × exposure × threshold × peak selection, with heat maps.
     Sweep(sweep::SweepArgs),
+    /// Check that a dataset is complete and that every sample's files have the size and
+    /// SHA-256 its manifest line records; exit 1 if anything is damaged or missing.
+    Verify(verify::VerifyArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -128,6 +132,7 @@ pub fn run() -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Dataset(args) => dataset::run(args),
         Command::Merge(args) => merge::run(args),
+        Command::Verify(args) => verify::run(args),
         Command::Score(args) => score::run(args),
         Command::Study(args) => study::run(args),
         Command::Sweep(args) => sweep::run(args),

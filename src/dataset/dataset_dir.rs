@@ -8,14 +8,18 @@
 //! - DIR holds R's `run.json` but nothing of S (no manifest of S, no sample directory of S):
 //!   accepted without `--resume`. This is how the shards of a job array share one DIR.
 //! - DIR holds something of S: refused without `--resume`. With `--resume`, a torn last
-//!   manifest line is cut off, the finished samples (those in S's manifest) are kept as they
-//!   are, every other sample directory of S is removed (it is partial), and stale temporaries
-//!   (`.*.tmp-*`) of S's samples and of `run.json` are removed.
+//!   manifest line is cut off, every finished sample (one in S's manifest) is checked against
+//!   its recorded file sizes and SHA-256 ([`super::integrity`]): intact ones are kept as they
+//!   are, damaged ones lose their manifest line (the manifest is rewritten atomically) and are
+//!   made again, every other sample directory of S is removed (it is partial), and stale
+//!   temporaries (`.*.tmp-*`) of S's samples and of `run.json` are removed.
 
 use std::fs;
 use std::path::Path;
 
-use super::manifest::{for_each_line, repair_torn_tail, RunInfo, RUN_FILE};
+use super::atomic::write_atomic;
+use super::integrity::{check_sample, Damage};
+use super::manifest::{encode_line, for_each_line, repair_torn_tail, RunInfo, RUN_FILE};
 use super::sample_files::parse_sample_dir_name;
 use super::shard::Shard;
 use super::{json, DatasetError};
@@ -48,14 +52,25 @@ impl Finished {
     }
 }
 
+/// What a directory held for a resumed shard.
+#[derive(Clone, Debug, Default)]
+pub struct Prepared {
+    /// The intact finished samples, kept.
+    pub finished: Finished,
+    /// What was wrong with the finished samples that are made again, per file.
+    pub damaged: Vec<Damage>,
+    /// How many finished samples were damaged (and are made again).
+    pub damaged_samples: u64,
+}
+
 /// Makes `dir` ready for shard `shard` of the run `info` (see the module documentation) and
-/// returns the samples already finished (empty unless resuming).
+/// returns the samples already finished and intact (empty unless resuming).
 pub fn prepare_dataset_dir(
     dir: &Path,
     info: &RunInfo,
     shard: Shard,
     resume: bool,
-) -> Result<Finished, DatasetError> {
+) -> Result<Prepared, DatasetError> {
     let run_path = dir.join(RUN_FILE);
     match fs::metadata(dir) {
         Ok(m) if m.is_dir() => {}
@@ -98,10 +113,12 @@ pub fn prepare_dataset_dir(
                 reason: format!("already holds samples of shard {shard}"),
             });
         }
-        return Ok(Finished::default());
+        return Ok(Prepared::default());
     }
 
     let mut finished = Finished::default();
+    let mut damaged_set = Finished::default();
+    let mut damaged = Vec::new();
     if manifest.exists() {
         repair_torn_tail(&manifest)?;
         for_each_line(&manifest, |number, line| {
@@ -115,15 +132,37 @@ pub fn prepare_dataset_dir(
                     ),
                 });
             }
-            if !finished.insert(line.index) {
+            if finished.contains(line.index) || damaged_set.contains(line.index) {
                 return Err(DatasetError::ManifestLine {
                     path: manifest.clone(),
                     line: number,
                     message: format!("sample {} is listed twice", line.index),
                 });
             }
+            let damage = check_sample(dir, &line);
+            if damage.is_empty() {
+                finished.insert(line.index);
+            } else {
+                damaged_set.insert(line.index);
+                damaged.extend(damage);
+            }
             Ok(())
         })?;
+        if damaged_set.len > 0 {
+            // Keep the intact lines only, in their order; the damaged samples are made again
+            // and appended by this run.
+            // (The temporary is renamed over the manifest only once it is complete.)
+            write_atomic(&manifest, |w| {
+                for_each_line(&manifest, |_, line| {
+                    if finished.contains(line.index) {
+                        writeln!(w, "{}", encode_line(&line))
+                            .map_err(|e| DatasetError::io(&manifest, "rewrite", e))?;
+                    }
+                    Ok(())
+                })
+                .map_err(std::io::Error::other)
+            })?;
+        }
     }
     for name in &names {
         let path = dir.join(name);
@@ -138,7 +177,11 @@ pub fn prepare_dataset_dir(
             _ => {}
         }
     }
-    Ok(finished)
+    Ok(Prepared {
+        finished,
+        damaged,
+        damaged_samples: damaged_set.len,
+    })
 }
 
 /// Removes stale temporaries inside the finished sample directory `dir` (none are expected:
@@ -205,6 +248,7 @@ mod tests {
             valid_points: 0,
             labels: Default::default(),
             saturated_pixels: 0,
+            files: Vec::new(),
         }
     }
 
@@ -217,7 +261,7 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let dir = root.path().join("ds");
         let done = prepare_dataset_dir(&dir, &info(1), Shard::ALL, false).unwrap();
-        assert_eq!(done.len, 0);
+        assert_eq!(done.finished.len, 0);
         let read: RunInfo = json::read_json(&dir.join(RUN_FILE)).unwrap();
         assert_eq!(read, info(1));
     }
@@ -269,8 +313,8 @@ mod tests {
         fs::write(&manifest, text).unwrap();
 
         let done = prepare_dataset_dir(dir, &info(1), half(), true).unwrap();
-        assert_eq!(done.len, 1);
-        assert!(done.contains(0) && !done.contains(2));
+        assert_eq!(done.finished.len, 1);
+        assert!(done.finished.contains(0) && !done.finished.contains(2));
         // Sample 2 (ours, unfinished) and the temporary are gone; 0 (finished) and 1 (the other
         // shard's) are untouched.
         assert_eq!(

@@ -222,6 +222,20 @@ pub enum DatasetError {
         message: String,
     },
 
+    /// Finished samples whose files are not what their manifest lines record.
+    #[error(
+        "{samples} finished sample(s) are damaged:\n  {}\nmake them again with `glassscan \
+         dataset … --resume` in their dataset directory (it redoes damaged samples), then retry; \
+         `glassscan verify DIR` lists the damage of a whole dataset",
+        damage.join("\n  ")
+    )]
+    DamagedSamples {
+        /// How many samples are damaged.
+        samples: u64,
+        /// One message per damaged file.
+        damage: Vec<String>,
+    },
+
     /// A line of a dataset manifest (JSON lines) that cannot be read.
     #[error("{}:{line}: {message}", path.display())]
     ManifestLine {

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use super::dataset_dir::{prepare_dataset_dir, sweep_temporaries};
-use super::manifest::{ManifestWriter, RunInfo};
+use super::manifest::{sort_manifest, ManifestWriter, RunInfo};
 use super::randomize::Randomization;
 use super::sample::{make_sample, PreparedWorld, SampleContext};
 use super::sample_files::{sample_dir_name, write_sample};
@@ -58,6 +58,10 @@ pub struct DatasetOutcome {
     pub kept: u64,
     /// Samples made by this run.
     pub made: u64,
+    /// Finished samples that were found damaged (resume) and made again.
+    pub damaged_samples: u64,
+    /// What was damaged, one message per file.
+    pub damage: Vec<String>,
 }
 
 impl DatasetRun<'_> {
@@ -86,7 +90,8 @@ impl DatasetRun<'_> {
             }
         })?;
         let info = self.info();
-        let finished = prepare_dataset_dir(self.out, &info, self.shard, self.resume)?;
+        let prepared = prepare_dataset_dir(self.out, &info, self.shard, self.resume)?;
+        let finished = &prepared.finished;
         let manifest = self.out.join(self.shard.manifest_name());
         let mut writer = ManifestWriter::open(&manifest)?;
         let in_shard = self.shard.indices(self.count).count() as u64;
@@ -114,6 +119,7 @@ impl DatasetRun<'_> {
             .filter(|&i| !finished.contains(i))
             .peekable();
         let mut made = 0;
+        let remade_any = prepared.damaged_samples > 0;
         while todo.peek().is_some() {
             let indices: Vec<u64> = todo.by_ref().take(batch).collect();
             let lines: Vec<_> = indices
@@ -133,11 +139,18 @@ impl DatasetRun<'_> {
                 progress(1);
             }
         }
+        if remade_any {
+            // Samples made again after a damaged one were appended after later intact ones;
+            // a shard manifest is kept in index order (merge streams it).
+            sort_manifest(&manifest)?;
+        }
         Ok(DatasetOutcome {
             manifest,
             in_shard,
             kept: finished.len,
             made,
+            damaged_samples: prepared.damaged_samples,
+            damage: prepared.damaged.iter().map(ToString::to_string).collect(),
         })
     }
 }

@@ -9,13 +9,15 @@
 //! Lines are appended in sample-index order (the generator keeps that order whatever the
 //! thread count), so a shard's manifest is sorted and `merge` can stream the shards together.
 
-use std::collections::BTreeMap;
+use std::cmp::Reverse;
+use std::collections::{BTreeMap, BinaryHeap};
 use std::fs::{File, OpenOptions};
 use std::io::{BufRead, BufReader, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use super::integrity::FileRecord;
 use super::DatasetError;
 
 /// The manifest of a whole (unsharded or merged) dataset.
@@ -109,6 +111,9 @@ pub struct ManifestLine {
     pub labels: BTreeMap<String, usize>,
     /// Pixels at the full well or at the ADC's full scale.
     pub saturated_pixels: usize,
+    /// Every file of the sample with its size and SHA-256, as written
+    /// ([`super::integrity`]): what `--resume`, `merge` and `verify` check.
+    pub files: Vec<FileRecord>,
 }
 
 /// Appends manifest lines, one durable line at a time.
@@ -203,6 +208,80 @@ pub fn for_each_line(
     }
 }
 
+/// Puts the manifest at `path` in index order, if it is not, without holding it in memory:
+/// it is cut into its sorted runs (where an index is not above the one before), which are
+/// merged with a heap of one line per run into a temporary renamed over the manifest.
+/// Returns whether it was reordered.
+pub fn sort_manifest(path: &Path) -> Result<bool, DatasetError> {
+    // Pass 1: the line number where each sorted run starts.
+    let mut starts = Vec::new();
+    let mut last: Option<u64> = None;
+    for_each_line(path, |number, line| {
+        if last.is_none_or(|l| line.index <= l) {
+            starts.push(number);
+        }
+        last = Some(line.index);
+        Ok(())
+    })?;
+    if starts.len() <= 1 {
+        return Ok(false);
+    }
+    // Pass 2: one reader per run, from its first line to the next run's.
+    let ends = starts.iter().skip(1).copied().chain([usize::MAX]);
+    let spans: Vec<(usize, usize)> = starts.iter().copied().zip(ends).collect();
+    super::atomic::write_atomic(path, |w| {
+        let mut runs = spans
+            .iter()
+            .map(|&(first, end)| SortedRun::open(path, first, end))
+            .collect::<std::io::Result<Vec<_>>>()?;
+        let mut heap = BinaryHeap::new();
+        for (k, run) in runs.iter_mut().enumerate() {
+            if let Some((index, text)) = run.next(path)? {
+                heap.push(Reverse((index, k, text)));
+            }
+        }
+        while let Some(Reverse((_, k, text))) = heap.pop() {
+            writeln!(w, "{text}")?;
+            if let Some((index, text)) = runs[k].next(path)? {
+                heap.push(Reverse((index, k, text)));
+            }
+        }
+        Ok(())
+    })?;
+    Ok(true)
+}
+
+/// The lines `at..end` (1-based) of a manifest: one sorted run of [`sort_manifest`].
+struct SortedRun {
+    lines: std::iter::Skip<std::io::Lines<BufReader<File>>>,
+    at: usize,
+    end: usize,
+}
+
+impl SortedRun {
+    fn open(path: &Path, first: usize, end: usize) -> std::io::Result<SortedRun> {
+        Ok(SortedRun {
+            lines: BufReader::new(File::open(path)?).lines().skip(first - 1),
+            at: first,
+            end,
+        })
+    }
+
+    /// The run's next (index, line text), `None` past its end.
+    fn next(&mut self, path: &Path) -> std::io::Result<Option<(u64, String)>> {
+        if self.at >= self.end {
+            return Ok(None);
+        }
+        let Some(text) = self.lines.next() else {
+            return Ok(None);
+        };
+        let text = text?;
+        let line = parse_line(path, self.at, &text).map_err(std::io::Error::other)?;
+        self.at += 1;
+        Ok(Some((line.index, text)))
+    }
+}
+
 /// Parses one manifest line (`number` is 1-based, for messages).
 pub fn parse_line(path: &Path, number: usize, text: &str) -> Result<ManifestLine, DatasetError> {
     serde_json::from_str(text.trim_end()).map_err(|e| DatasetError::ManifestLine {
@@ -232,6 +311,11 @@ mod tests {
             valid_points: 321,
             labels: BTreeMap::from([("table".to_string(), 300), ("glass_edge".into(), 21)]),
             saturated_pixels: 0,
+            files: vec![FileRecord {
+                name: "image.png".into(),
+                bytes: 12,
+                sha256: "ab".repeat(32),
+            }],
         }
     }
 
@@ -283,6 +367,24 @@ mod tests {
         w.append(&line(1)).unwrap();
         assert_eq!(read_all(&path).unwrap(), [line(0), line(1)]);
         assert!(!repair_torn_tail(&dir.path().join("missing.jsonl")).unwrap());
+    }
+
+    #[test]
+    fn sorting_merges_the_sorted_runs_of_a_resumed_manifest() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(MANIFEST);
+        let mut w = ManifestWriter::open(&path).unwrap();
+        for i in [0, 2, 5, 1, 3, 4, 6, 2 + 5] {
+            w.append(&line(i)).unwrap();
+        }
+        drop(w);
+        assert!(sort_manifest(&path).unwrap());
+        let indices: Vec<u64> = read_all(&path).unwrap().iter().map(|l| l.index).collect();
+        assert_eq!(indices, [0, 1, 2, 3, 4, 5, 6, 7]);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(!sort_manifest(&path).unwrap());
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 
     #[test]

@@ -3,8 +3,9 @@
 //!
 //! Checks, before anything is written: every directory has a `run.json` of the same run (scene
 //! text, randomisation, seed, count, photons, version); every sample 0..count is listed exactly
-//! once (the error lists the missing and the duplicated ones); every listed sample directory
-//! exists. The merge streams: pass 1 reads the shards line by line keeping one bit per sample,
+//! once (the error lists the missing and the duplicated ones); every listed sample is intact,
+//! each of its files of the size and SHA-256 its line records (the error lists every damaged
+//! file). The merge streams: pass 1 reads the shards line by line keeping one bit per sample,
 //! pass 2 merges the (index-sorted) shard files with a heap of one line per shard, so memory
 //! does not grow with the sample count.
 //!
@@ -19,6 +20,7 @@ use std::io::{BufRead, BufReader, Lines};
 use std::path::{Path, PathBuf};
 
 use super::atomic::write_atomic;
+use super::integrity::check_sample;
 use super::manifest::{encode_line, for_each_line, parse_line, RunInfo, MANIFEST, RUN_FILE};
 use super::shard::Shard;
 use super::{json, DatasetError};
@@ -159,6 +161,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError>
 fn check_coverage(files: &[ShardFile], count: u64) -> Result<(), DatasetError> {
     let mut seen = vec![0u64; count.div_ceil(64) as usize];
     let mut duplicated = Vec::new();
+    let (mut damaged, mut damaged_samples) = (Vec::new(), 0u64);
     for f in files {
         let mut last: Option<u64> = None;
         for_each_line(&f.path, |number, line| {
@@ -181,11 +184,10 @@ fn check_coverage(files: &[ShardFile], count: u64) -> Result<(), DatasetError> {
                 )));
             }
             last = Some(line.index);
-            if !f.dir.join(&line.directory).is_dir() {
-                return Err(bad(format!(
-                    "the directory {} of sample {} is missing",
-                    line.directory, line.index
-                )));
+            let damage = check_sample(&f.dir, &line);
+            if !damage.is_empty() {
+                damaged_samples += 1;
+                damaged.extend(damage.iter().map(ToString::to_string));
             }
             let (w, b) = ((line.index / 64) as usize, line.index % 64);
             if seen[w] & (1 << b) != 0 {
@@ -194,6 +196,12 @@ fn check_coverage(files: &[ShardFile], count: u64) -> Result<(), DatasetError> {
             seen[w] |= 1 << b;
             Ok(())
         })?;
+    }
+    if !damaged.is_empty() {
+        return Err(DatasetError::DamagedSamples {
+            samples: damaged_samples,
+            damage: damaged,
+        });
     }
     let missing: Vec<u64> = (0..count)
         .filter(|i| seen[(i / 64) as usize] & (1 << (i % 64)) == 0)
@@ -240,6 +248,7 @@ mod tests {
             valid_points: 3,
             labels: Default::default(),
             saturated_pixels: 0,
+            files: Vec::new(),
         }
     }
 

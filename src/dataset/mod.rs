@@ -11,14 +11,16 @@
 //! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
-//! Synthetic datasets (`glassscan dataset`, `merge`, `score`), built on the writers above and
+//! Synthetic datasets (`glassscan dataset`, `merge`, `verify`, `score`), built on the writers above and
 //! on `scene` and `scan`:
 //! - `randomize` (the `--randomize` ranges and the per-sample draws), `scene_edit` (a scene
 //!   file edited with the draws and loaded again), `ideal_profile` (the exact cross-section
 //!   the laser plane cuts), `sample` (one sample end to end), `sample_files` (its directory);
-//! - `manifest` (`run.json` and the JSON-lines manifests), `dataset_dir` (refuse, start or
-//!   resume an output directory), `shard` (`--shard K/N` and scheduler environments),
-//!   `generate` (the run loop), `merge` (shard manifests → `manifest.jsonl`), `score` (a
+//! - `manifest` (`run.json` and the JSON-lines manifests), `integrity` (each sample file's
+//!   size and SHA-256 in its manifest line, and the check of a finished sample),
+//!   `dataset_dir` (refuse, start or resume an output directory), `shard` (`--shard K/N` and scheduler environments),
+//!   `generate` (the run loop), `merge` (shard manifests → `manifest.jsonl`, refused while a
+//!   sample is damaged), `verify` (a whole dataset against its manifests), `score` (a
 //!   user's BIPs against the ground truth).
 //!
 //! Invariants:
@@ -35,6 +37,7 @@ pub mod error;
 pub mod exr;
 pub mod generate;
 pub mod ideal_profile;
+pub mod integrity;
 pub mod json;
 pub mod manifest;
 pub mod merge;
@@ -49,5 +52,6 @@ pub mod sample_files;
 pub mod scene_edit;
 pub mod score;
 pub mod shard;
+pub mod verify;
 
 pub use error::DatasetError;

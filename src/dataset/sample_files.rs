@@ -8,8 +8,9 @@
 //! | `points.ply` | the valid profile points in the base frame (mm), coloured by path label |
 //! | `ground_truth.json` | drawn parameters, poses, p_e, ideal profile, per-point labels |
 //!
-//! Every file is written atomically; the caller appends the manifest line only after this
-//! returns, which is what makes the sample finished.
+//! Every file is written atomically, then read back for its size and SHA-256, which the
+//! manifest line records; the caller appends the line only after this returns, which is what
+//! makes the sample finished.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -18,6 +19,7 @@ use nalgebra::Point3;
 use serde::Serialize;
 
 use super::ideal_profile::IdealPoint;
+use super::integrity::record_files;
 use super::manifest::ManifestLine;
 use super::ply::{write_ply, PointCloud};
 use super::sample::Sample;
@@ -228,6 +230,7 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
         valid_points: in_base.len(),
         labels,
         saturated_pixels: r.saturated_pixels,
+        files: record_files(dir, &FILES)?,
     })
 }
 
