@@ -77,6 +77,10 @@ fn refuses_a_non_empty_output_directory_without_force_and_keeps_its_files() {
         std::fs::read_to_string(out.join("precious.txt")).unwrap(),
         "keep me"
     );
+    // Files of an earlier 4-pose run.
+    for name in ["pose_003.png", "pose_003.exr", "pose_003_profile.csv"] {
+        std::fs::write(out.join(name), "old").unwrap();
+    }
     let o = glassscan(&[
         "scan",
         "scenes/flat_opaque.toml",
@@ -93,6 +97,137 @@ fn refuses_a_non_empty_output_directory_without_force_and_keeps_its_files() {
         std::fs::read_to_string(out.join("precious.txt")).unwrap(),
         "keep me"
     );
+    // A --force run of fewer poses leaves only its own pose files beside the user's file.
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "manifest.json",
+            "pose_000.exr",
+            "pose_000.png",
+            "pose_000_profile.csv",
+            "precious.txt"
+        ]
+    );
+}
+
+/// Numbers beyond what the simulator can hold (f32 geometry, the sampler's lattice, memory):
+/// each once crashed or aborted (exit 101 or 134); now each is bad input, caught before work.
+fn limits_cases(out: &Path) -> Vec<(Vec<&'static str>, &'static str)> {
+    let out: &'static str = Box::leak(out.display().to_string().into_boxed_str());
+    let scan = |extra: &[&'static str]| {
+        let mut a = vec!["scan", "scenes/flat_opaque.toml", "--out", out];
+        a.extend_from_slice(extra);
+        a
+    };
+    vec![
+        (
+            scan(&["--poses", "4000000000"]),
+            "--poses must be in 1..=1000000",
+        ),
+        // The scene file caps scan.poses at 10⁶; the flag has the same cap.
+        (
+            scan(&["--poses", "2000000"]),
+            "--poses must be in 1..=1000000",
+        ),
+        (
+            scan(&["--photons", "18446744073709551615"]),
+            "--photons must be in 1000..=",
+        ),
+        (
+            scan(&["--max-depth", "100000"]),
+            "--max-depth must be in 1..=4096",
+        ),
+        // A negative value reaches the range check instead of clap's "use '-- -5'" tip.
+        (
+            scan(&["--scan-angle-deg", "-5"]),
+            "must be in (0, 90], got -5",
+        ),
+        (
+            vec!["locate", "scenes/flat_panel.toml", "--poses", "4000000000"],
+            "--poses must be in 3..=1000000",
+        ),
+        (
+            vec![
+                "sweep",
+                "scenes/flat_panel.toml",
+                "--scan-angle-deg",
+                "45",
+                "--exposure-ms",
+                "0.5",
+                "--poses",
+                "4000000000",
+            ],
+            "--poses must be in 1..=1000000",
+        ),
+        (
+            vec![
+                "dataset",
+                "scenes/edge_study.toml",
+                "--out",
+                out,
+                "--count",
+                "1000000000000",
+            ],
+            "--count must be in 1..=100000000",
+        ),
+    ]
+}
+
+#[test]
+fn a_length_beyond_f32_geometry_is_bad_input_not_a_panic() {
+    // thickness_mm = 1e300 once panicked inside the BVH build (exit 101).
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/flat_panel.toml"),
+    )
+    .unwrap();
+    let (before, after) = text.split_once("thickness_mm = ").expect("a thickness");
+    let rest = after.split_once('\n').map_or("", |(_, r)| r);
+    let scene = tmp.path().join("huge.toml");
+    std::fs::write(&scene, format!("{before}thickness_mm = 1e300\n{rest}")).unwrap();
+    let out = out_dir(&tmp, "x");
+    let o = glassscan(&["scan", s(&scene), "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("thickness_mm must be at most 1e5 in magnitude (100 m), got 1e300"),
+        "{}",
+        stderr(&o)
+    );
+    let points = tmp.path().join("far.csv");
+    std::fs::write(&points, "x_mm,y_mm,z_mm\n1e300,0,0\n1,2,3\n4,5,6\n").unwrap();
+    let o = glassscan(&["register", "scenes/flat_panel.toml", s(&points)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("far.csv:2: column x_mm"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn an_unwritable_output_directory_is_refused_before_any_work() {
+    // Root may write anywhere an ordinary directory allows, but never into /proc/1.
+    let proc_dir = std::path::Path::new("/proc/1");
+    if !proc_dir.is_dir() {
+        return;
+    }
+    let started = std::time::Instant::now();
+    let o = glassscan(&[
+        "scan",
+        "scenes/flat_panel.toml",
+        "--out",
+        "/proc/1",
+        "--force",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("is not writable"), "{}", stderr(&o));
+    // Refused before the (multi-second) simulation of the scene's poses.
+    assert!(started.elapsed().as_secs_f64() < 30.0);
 }
 
 #[test]
@@ -192,8 +327,10 @@ fn bad_input_exits_with_code_2_and_a_clear_message() {
             "--sensor-kind",
         ),
     ];
-    for (args, needle) in cases {
-        let o = glassscan(args);
+    let limits = limits_cases(&out);
+    let all = (cases.iter().map(|(a, n)| (a.to_vec(), *n))).chain(limits.iter().cloned());
+    for (args, needle) in all {
+        let o = glassscan(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
         assert!(
             stderr(&o).contains(needle),

@@ -11,6 +11,7 @@ use crate::dataset::generate::DatasetRun;
 use crate::dataset::randomize::Randomization;
 use crate::dataset::scene_edit::SceneTemplate;
 use crate::dataset::shard::Shard;
+use crate::limits::MAX_SAMPLES;
 
 /// Arguments of `glassscan dataset`.
 #[derive(Debug, Args)]
@@ -38,7 +39,7 @@ pub struct DatasetArgs {
     /// Continue a killed run in DIR: keep its finished samples, redo the others.
     #[arg(long)]
     pub resume: bool,
-    /// Laser photons traced per sample (≥ 1000).
+    /// Laser photons traced per sample (1000 to 2^40).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
     #[command(flatten)]
@@ -51,8 +52,11 @@ pub struct DatasetArgs {
 /// Runs `glassscan dataset`.
 pub fn run(args: DatasetArgs) -> Result<(), CliError> {
     let bad = flags::bad_flag;
-    if args.count == 0 {
-        return Err(bad("count", "must be ≥ 1, got 0".into()));
+    if !(1..=MAX_SAMPLES).contains(&args.count) {
+        return Err(bad(
+            "count",
+            format!("must be in 1..={MAX_SAMPLES}, got {}", args.count),
+        ));
     }
     flags::photons(args.photons)?;
     args.transport.check()?;

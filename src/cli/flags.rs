@@ -3,11 +3,12 @@
 use std::path::PathBuf;
 
 use super::CliError;
+use crate::limits::{MAX_DEPTH, MAX_PHOTONS, MAX_POSES, MIN_PHOTONS};
 
 /// `--photons` and `--seed`, shared by the commands that trace light at scan poses.
 #[derive(Debug, clap::Args)]
 pub struct LightArgs {
-    /// Laser photons traced per pose (≥ 1000).
+    /// Laser photons traced per pose (1000 to 2^40).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
     /// Master seed of all random numbers (light, sensor noise, error draws).
@@ -18,7 +19,7 @@ pub struct LightArgs {
 /// `--max-depth` and `--threads`, for the commands that expose the transport's knobs.
 #[derive(Debug, clap::Args)]
 pub struct TransportArgs {
-    /// Longest photon path, in surface interactions including specular ones (≥ 1).
+    /// Longest photon path, in surface interactions including specular ones (1 to 4096).
     #[arg(long, value_name = "D", default_value_t = 64)]
     pub max_depth: u32,
     /// Worker threads (default: all cores). Results do not depend on it.
@@ -29,8 +30,11 @@ pub struct TransportArgs {
 impl TransportArgs {
     /// Both must be ≥ 1.
     pub fn check(&self) -> Result<(), CliError> {
-        if self.max_depth == 0 {
-            return Err(bad_flag("max-depth", "must be ≥ 1, got 0".into()));
+        if !(1..=MAX_DEPTH).contains(&self.max_depth) {
+            return Err(bad_flag(
+                "max-depth",
+                format!("must be in 1..={MAX_DEPTH}, got {}", self.max_depth),
+            ));
         }
         if self.threads == Some(0) {
             return Err(bad_flag("threads", "must be ≥ 1, got 0".into()));
@@ -86,12 +90,27 @@ pub fn angle_rad(flag: &str, deg: f64) -> Result<f64, CliError> {
     }
 }
 
-/// `--photons`: at least 1000 per pose.
+/// `--photons`: in [`MIN_PHOTONS`, `MAX_PHOTONS`] per pose.
 pub fn photons(n: u64) -> Result<u64, CliError> {
-    if n >= 1000 {
+    if (MIN_PHOTONS..=MAX_PHOTONS).contains(&n) {
         Ok(n)
     } else {
-        Err(bad_flag("photons", format!("must be ≥ 1000, got {n}")))
+        Err(bad_flag(
+            "photons",
+            format!("must be in {MIN_PHOTONS}..={MAX_PHOTONS} (2^40), got {n}"),
+        ))
+    }
+}
+
+/// A pose count given by `--flag`: in `min..=MAX_POSES`, the scene file's `scan.poses` range.
+pub fn poses(flag: &str, n: usize, min: usize, why: &str) -> Result<usize, CliError> {
+    if (min..=MAX_POSES).contains(&n) {
+        Ok(n)
+    } else {
+        Err(bad_flag(
+            flag,
+            format!("must be in {min}..={MAX_POSES}{why}, got {n}"),
+        ))
     }
 }
 

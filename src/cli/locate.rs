@@ -22,7 +22,7 @@ use crate::transport::TraceSettings;
 pub struct LocateArgs {
     /// Scene file (TOML) with a [target] panel.
     pub scene: PathBuf,
-    /// Number of scan poses along the border (≥ 3); overrides [scan].
+    /// Number of scan poses along the border (3 to 10^6); overrides [scan].
     #[arg(long, value_name = "N")]
     pub poses: Option<usize>,
     /// Scan angle in degrees (0 < A ≤ 90); overrides [scan].
@@ -104,13 +104,7 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
     let mut world = scene::load(&args.scene).map_err(CliError::input)?;
     let mut scan = world.scan;
     if let Some(n) = args.poses {
-        if n < 3 {
-            return Err(flags::bad_flag(
-                "poses",
-                format!("must be ≥ 3 (ICP needs three points), got {n}"),
-            ));
-        }
-        scan.poses = n;
+        scan.poses = flags::poses("poses", n, 3, " (ICP needs three points)")?;
     }
     if let Some(a) = args.scan_angle_deg {
         scan.scan_angle_rad = flags::scan_angle_rad(a)?;

@@ -31,36 +31,47 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// Subcommands.
+/// Subcommands. Each accepts negative numbers as flag values (`--scan-angle-deg -5` reaches
+/// the range check and its clear message, instead of clap's "unexpected argument").
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Simulate the sensor at scan poses along the target's border and write images,
     /// profiles and a manifest.
+    #[command(allow_negative_numbers = true)]
     Scan(scan::ScanArgs),
     /// Scan the target's border, pick a Border Identifier Point per profile, register them to
     /// the model by ICP and report the errors against ground truth (the paper's pipeline).
+    #[command(allow_negative_numbers = true)]
     Locate(locate::LocateArgs),
     /// Register your own border points (CSV, base frame, mm) to a scene's target border by
     /// ICP from its nominal pose, and print the pose.
+    #[command(allow_negative_numbers = true)]
     Register(register::RegisterArgs),
     /// Run a regression suite (validation/check/) and compare its metrics with the committed
     /// baseline; exit 1 if any regressed.
+    #[command(allow_negative_numbers = true)]
     Check(check::CheckArgs),
     /// Make N samples of synthetic sensor data with exact ground truth, optionally with domain
     /// randomisation, in shards, resumable.
+    #[command(allow_negative_numbers = true)]
     Dataset(dataset::DatasetArgs),
     /// Join the shard manifests of a dataset into one manifest.jsonl sorted by sample index.
+    #[command(allow_negative_numbers = true)]
     Merge(merge::MergeArgs),
     /// Score your own Border Identifier Points (CSV) against a dataset's ground truth.
+    #[command(allow_negative_numbers = true)]
     Score(score::ScoreArgs),
     /// Studies of the paper: `study scan-angle` runs the edge experiment (tape, cover, bare)
     /// over scan angles and reports the BIP error against ground truth.
+    #[command(allow_negative_numbers = true)]
     Study(study::StudyArgs),
     /// BIP error, valid fraction, saturation and wrong-surface fraction over a grid of scan
     /// angle × exposure × threshold × peak selection, with heat maps.
+    #[command(allow_negative_numbers = true)]
     Sweep(sweep::SweepArgs),
     /// Check that a dataset is complete and that every sample's files have the size and
     /// SHA-256 its manifest line records; exit 1 if anything is damaged or missing.
+    #[command(allow_negative_numbers = true)]
     Verify(verify::VerifyArgs),
 }
 

@@ -28,7 +28,7 @@ pub struct ScanArgs {
     /// Scan angle above the surface's tangent plane, in degrees (0 < A ≤ 90); overrides [scan].
     #[arg(long, value_name = "A")]
     pub scan_angle_deg: Option<f64>,
-    /// Number of scan poses along the border (≥ 1); overrides [scan].
+    /// Number of scan poses along the border (1 to 10^6); overrides [scan].
     #[arg(long, value_name = "N")]
     pub poses: Option<usize>,
     /// Exposure time in milliseconds (> 0); overrides [sensor].
@@ -81,10 +81,7 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
         scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
     if let Some(n) = args.poses {
-        if n == 0 {
-            return Err(bad("poses", "must be ≥ 1, got 0".into()));
-        }
-        scan.poses = n;
+        scan.poses = flags::poses("poses", n, 1, "")?;
     }
     if let Some(e) = args.exposure_ms {
         world.sensor.imager.exposure_s = flags::exposure_s(e)?;
@@ -153,6 +150,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
     let adc_bits = world.sensor.imager.adc_bits;
 
     let mut entries = Vec::with_capacity(poses.len());
+    let mut written = std::collections::BTreeSet::from(["manifest.json".to_string()]);
     let bar = progress::bar(poses.len() as u64, "poses", cfg.json);
     for pose in &poses {
         let result = simulate_pose(&trace_scene, &head, pose, &cfg.settings);
@@ -166,6 +164,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
             .map_err(CliError::internal)?;
         profile_csv::write_profile_csv(&cfg.out.join(&csv), &result.profile)
             .map_err(CliError::internal)?;
+        written.extend([png.clone(), exr_name.clone(), csv.clone()]);
         let entry = PoseEntry::new(
             &result,
             vec![
@@ -200,6 +199,18 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
     let manifest = Manifest::new(world, &cfg.scan, &cfg.settings, entries, started.elapsed());
     let manifest_path = cfg.out.join("manifest.json");
     json::write_json_pretty(&manifest_path, &manifest).map_err(CliError::internal)?;
+    // A --force run into an earlier run's directory leaves only its own files.
+    let removed =
+        output_dir::remove_stale(&cfg.out, is_scan_output, &written).map_err(CliError::internal)?;
+    if !removed.is_empty() {
+        eprintln!(
+            "removed {} file(s) of the earlier run in {} that this run does not write ({}{})",
+            removed.len(),
+            display(&cfg.out),
+            removed[..removed.len().min(3)].join(", "),
+            if removed.len() > 3 { ", …" } else { "" }
+        );
+    }
     if cfg.json {
         let summary = Summary::new(&manifest, &cfg.out, &manifest_path);
         super::print_json(&summary)?;
@@ -212,6 +223,16 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// Whether `name` is a file `scan` writes: `pose_NNN.png`, `pose_NNN.exr`,
+/// `pose_NNN_profile.csv` (NNN: three or more digits).
+fn is_scan_output(name: &str) -> bool {
+    let Some(rest) = name.strip_prefix("pose_") else {
+        return false;
+    };
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    digits >= 3 && matches!(&rest[digits..], ".png" | ".exr" | "_profile.csv")
 }
 
 fn display(p: &Path) -> String {

@@ -42,6 +42,7 @@ pub enum StudyCommand {
     /// The paper's edge experiment (Section III-C, Figs. 6–7): tape, cover and bare pane at
     /// several scan angles; points in the edge frame of p_e, BIP errors by both rules, and the
     /// BIP error over a sweep of scan angles.
+    #[command(allow_negative_numbers = true)]
     ScanAngle(ScanAngleArgs),
 }
 
@@ -141,9 +142,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     } else {
         flags::angle_range_rad("sweep-deg", &args.sweep_deg)?
     };
-    if args.positions == 0 {
-        return Err(flags::bad_flag("positions", "must be ≥ 1, got 0".into()));
-    }
+    flags::poses("positions", args.positions, 1, "")?;
     let exposures_s = flags::list("exposures-ms", &args.exposures_ms, |s| {
         let ms = flags::number("exposures-ms", s)?;
         if ms.is_finite() && ms > 0.0 {
@@ -316,12 +315,7 @@ fn map_settings(args: &ScanAngleArgs) -> Result<MapAxes, CliError> {
             format!("expects two angles, got {:?}", args.map_angles_deg),
         ));
     };
-    if args.map_positions == 0 {
-        return Err(flags::bad_flag(
-            "map-positions",
-            "must be ≥ 1, got 0".into(),
-        ));
-    }
+    flags::poses("map-positions", args.map_positions, 1, "")?;
     Ok(MapAxes {
         arris_widths_mm: widths,
         roughness,

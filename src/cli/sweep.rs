@@ -41,7 +41,7 @@ pub struct SweepArgs {
     /// single. Default: the scene's.
     #[arg(long, value_name = "LIST")]
     pub peak_select: Option<String>,
-    /// Scan poses along the border per angle (≥ 1); overrides [scan].
+    /// Scan poses along the border per angle (1 to 10^6); overrides [scan].
     #[arg(long, value_name = "N")]
     pub poses: Option<usize>,
     #[command(flatten)]
@@ -66,8 +66,8 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
         Some(l) => Some(flags::list("peak-select", l, flags::peak_select)?),
         None => None,
     };
-    if args.poses == Some(0) {
-        return Err(flags::bad_flag("poses", "must be ≥ 1, got 0".into()));
+    if let Some(n) = args.poses {
+        flags::poses("poses", n, 1, "")?;
     }
     flags::photons(args.light.photons)?;
 

@@ -85,6 +85,7 @@ pub fn prepare_dataset_dir(
         }
         Err(e) => return Err(DatasetError::io(dir, "inspect the output directory", e)),
     }
+    super::output_dir::check_writable(dir)?;
     let names = list(dir)?;
     if run_path.is_file() {
         let recorded: RunInfo = json::read_json(&run_path)?;

@@ -36,6 +36,19 @@ pub enum DatasetError {
         path: PathBuf,
     },
 
+    /// The output directory exists but a file cannot be created in it.
+    #[error(
+        "output directory {} is not writable ({source}): choose another directory or fix its \
+         permissions",
+        path.display()
+    )]
+    OutputNotWritable {
+        /// The output directory.
+        path: PathBuf,
+        /// The operating system's refusal.
+        source: std::io::Error,
+    },
+
     /// The output directory path names something that is not a directory.
     #[error("{}: expected an output directory, but it exists and is not a directory", path.display())]
     OutputNotADirectory {

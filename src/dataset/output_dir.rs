@@ -6,14 +6,17 @@ use std::path::Path;
 
 use super::DatasetError;
 
-/// Makes `dir` ready to receive output files.
+/// Makes `dir` ready to receive output files, before any work starts.
 ///
 /// - Missing: it is created, with its parents.
 /// - Existing and empty: accepted.
 /// - Existing and not empty: refused with [`DatasetError::OutputNotEmpty`] unless `force`.
-///   With `force` nothing is deleted; each output file is later replaced atomically, one by one,
-///   and files this run does not write stay as they are.
+///   With `force` nothing is deleted now; each output file is later replaced atomically, one
+///   by one, and the command removes the files of its kind that the new run did not write
+///   ([`remove_stale`]).
 /// - Existing but not a directory: refused, with or without `force`.
+/// - Not writable (read-only, no permission): refused with [`DatasetError::OutputNotWritable`]:
+///   a file is created in it and removed again, so the answer is the file system's own.
 pub fn prepare_output_dir(dir: &Path, force: bool) -> Result<(), DatasetError> {
     match std::fs::metadata(dir) {
         Ok(meta) if meta.is_dir() => {
@@ -22,15 +25,57 @@ pub fn prepare_output_dir(dir: &Path, force: bool) -> Result<(), DatasetError> {
                     path: dir.to_path_buf(),
                 });
             }
-            Ok(())
         }
-        Ok(_) => Err(DatasetError::OutputNotADirectory {
-            path: dir.to_path_buf(),
-        }),
+        Ok(_) => {
+            return Err(DatasetError::OutputNotADirectory {
+                path: dir.to_path_buf(),
+            })
+        }
         Err(e) if e.kind() == io::ErrorKind::NotFound => std::fs::create_dir_all(dir)
-            .map_err(|e| DatasetError::io(dir, "create the output directory", e)),
-        Err(e) => Err(DatasetError::io(dir, "inspect the output directory", e)),
+            .map_err(|e| DatasetError::io(dir, "create the output directory", e))?,
+        Err(e) => return Err(DatasetError::io(dir, "inspect the output directory", e)),
     }
+    check_writable(dir)
+}
+
+/// Refuses a directory in which a file cannot be created.
+pub fn check_writable(dir: &Path) -> Result<(), DatasetError> {
+    let probe = dir.join(format!(".glassscan-write-probe-{}", std::process::id()));
+    match std::fs::File::create(&probe) {
+        Ok(file) => {
+            drop(file);
+            std::fs::remove_file(&probe)
+                .map_err(|e| DatasetError::io(&probe, "remove the write probe", e))
+        }
+        Err(source) => Err(DatasetError::OutputNotWritable {
+            path: dir.to_path_buf(),
+            source,
+        }),
+    }
+}
+
+/// After a `--force` run: removes the files of `dir` that `is_output` says a run of this
+/// command writes (e.g. `pose_007.png`) but that this run did not write, so the directory
+/// holds one run, not two mixed. Returns the names removed, sorted.
+pub fn remove_stale(
+    dir: &Path,
+    is_output: impl Fn(&str) -> bool,
+    written: &std::collections::BTreeSet<String>,
+) -> Result<Vec<String>, DatasetError> {
+    let mut removed = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(|e| DatasetError::io(dir, "list", e))? {
+        let entry = entry.map_err(|e| DatasetError::io(dir, "list", e))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if is_file && is_output(&name) && !written.contains(&name) {
+            let path = entry.path();
+            std::fs::remove_file(&path)
+                .map_err(|e| DatasetError::io(&path, "remove the earlier run's file", e))?;
+            removed.push(name);
+        }
+    }
+    removed.sort();
+    Ok(removed)
 }
 
 fn is_empty_dir(dir: &Path) -> Result<bool, DatasetError> {
@@ -47,6 +92,23 @@ fn is_empty_dir(dir: &Path) -> Result<bool, DatasetError> {
 mod tests {
     use super::*;
     use std::fs;
+
+    #[test]
+    fn stale_outputs_go_and_everything_else_stays() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["pose_000.png", "pose_003.png", "notes.txt", "manifest.json"] {
+            fs::write(dir.path().join(name), "x").unwrap();
+        }
+        let written = ["pose_000.png".to_string(), "manifest.json".into()].into();
+        let removed = remove_stale(dir.path(), |n| n.starts_with("pose_"), &written).unwrap();
+        assert_eq!(removed, ["pose_003.png"]);
+        let mut left: Vec<String> = fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["manifest.json", "notes.txt", "pose_000.png"]);
+    }
 
     #[test]
     fn missing_directory_is_created_with_parents() {

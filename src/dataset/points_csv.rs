@@ -8,6 +8,7 @@ use std::path::Path;
 
 use super::atomic::write_atomic;
 use super::DatasetError;
+use crate::limits::MAX_LENGTH_MM;
 
 /// A table of named columns, written as CSV with Rust's shortest round-trip floats.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -96,8 +97,8 @@ pub fn named_rows<'a>(
     Ok(rows)
 }
 
-/// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm); rows with all three empty are
-/// skipped. Returns the points with their 1-based line numbers.
+/// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm, each within
+/// [`crate::limits::MAX_LENGTH_MM`]); rows with all three empty are skipped. Returns the points with their 1-based line numbers.
 pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
     let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
     const COLUMNS: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
@@ -111,12 +112,12 @@ pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetErr
             p[k] = row.fields[k]
                 .parse::<f64>()
                 .ok()
-                .filter(|v| v.is_finite())
+                .filter(|v| v.is_finite() && v.abs() <= MAX_LENGTH_MM)
                 .ok_or_else(|| DatasetError::CsvValue {
                     path: path.to_path_buf(),
                     line: row.line,
                     column,
-                    expected: "a finite number (mm)",
+                    expected: "a finite number of mm within ±1e5 (100 m)",
                     found: row.fields[k].to_string(),
                 })?;
         }

@@ -309,7 +309,8 @@ impl SceneSource<'_> {
     }
 
     /// Checks that a number is finite and satisfies `ok`; `expected` completes
-    /// "`field` …", e.g. "must be > 0".
+    /// "`field` …", e.g. "must be > 0". A length (a key ending in `_mm` or `_um`) must also be
+    /// within [`crate::limits::MAX_LENGTH_MM`].
     pub fn number(
         &self,
         value: &Spanned<f64>,
@@ -326,7 +327,23 @@ impl SceneSource<'_> {
             ));
         }
         if !ok(v) {
-            return Err(self.invalid(&value.span(), field, format!("{expected}, got {v}")));
+            return Err(self.invalid(
+                &value.span(),
+                field,
+                format!("{expected}, got {}", shown(v)),
+            ));
+        }
+        if let Some(max) = crate::limits::length_bound(field) {
+            if v.abs() > max {
+                return Err(self.invalid(
+                    &value.span(),
+                    field,
+                    format!(
+                        "must be at most {max:e} in magnitude (100 m), got {}",
+                        shown(v)
+                    ),
+                ));
+            }
         }
         Ok(v)
     }
@@ -373,6 +390,17 @@ impl SceneSource<'_> {
             return Err(self.invalid(&value.span(), field, format!("{expected}, got {v}")));
         }
         Ok(v)
+    }
+}
+
+/// A number as a message shows it: plain, or in scientific notation when plain would be long
+/// (`1e300`, not three hundred digits).
+fn shown(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-6..1e15).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }
 

@@ -433,7 +433,7 @@ fn scan(
         None => DEFAULT_SCAN_ANGLE_DEG,
     };
     let poses = match &def.poses {
-        Some(p) => src.integer(p, "scan.poses", 1, 1_000_000)?,
+        Some(p) => src.integer(p, "scan.poses", 1, crate::limits::MAX_POSES as i64)?,
         None => DEFAULT_POSES,
     };
     let (z_min_mm, z_max_mm) = (sensor.range.z_min_m * 1e3, sensor.range.z_max_m * 1e3);

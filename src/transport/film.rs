@@ -1,4 +1,4 @@
-//! The film: flux splats collected per chunk of photons, summed in chunk order, per path class.
+//! The film: flux splats of each chunk of photons, summed in chunk order, per path class.
 
 use crate::sensor::image::Image;
 use crate::sensor::path_class::PathClass;
@@ -23,28 +23,43 @@ pub struct Irradiance {
     pub by_class: Vec<Image<f64>>,
 }
 
-/// Sums chunks of splats, in the order given, into irradiance images (W/m²).
-///
-/// The order of summation is the chunk order, never the order threads finish in, so the
-/// result is bit-identical for any thread count.
-pub fn develop<'a>(
-    width: usize,
-    height: usize,
-    pixel_area_m2: f64,
-    chunks: impl IntoIterator<Item = &'a [Splat]>,
-) -> Irradiance {
-    let mut total = Image::<f64>::new(width, height);
-    let mut by_class = vec![Image::<f64>::new(width, height); PathClass::ALL.len()];
-    for chunk in chunks {
+/// Splats summed into images as they come, in the order given (flux per pixel, W). The
+/// tracer adds chunks in chunk order, never in the order threads finish them, so the result
+/// is bit-identical for any thread count.
+#[derive(Clone, Debug)]
+pub struct Film {
+    total: Image<f64>,
+    by_class: Vec<Image<f64>>,
+}
+
+impl Film {
+    /// An unexposed film of `width × height` pixels.
+    pub fn new(width: usize, height: usize) -> Film {
+        Film {
+            total: Image::<f64>::new(width, height),
+            by_class: vec![Image::<f64>::new(width, height); PathClass::ALL.len()],
+        }
+    }
+
+    /// Adds one chunk's splats, in order.
+    pub fn add(&mut self, chunk: &[Splat]) {
         for s in chunk {
-            total.data[s.pixel as usize] += s.flux;
-            by_class[s.class.index()].data[s.pixel as usize] += s.flux;
+            self.total.data[s.pixel as usize] += s.flux;
+            self.by_class[s.class.index()].data[s.pixel as usize] += s.flux;
         }
     }
-    for img in std::iter::once(&mut total).chain(by_class.iter_mut()) {
-        for v in &mut img.data {
-            *v /= pixel_area_m2;
+
+    /// The irradiance (W/m²) for pixels of `pixel_area_m2`.
+    pub fn develop(self, pixel_area_m2: f64) -> Irradiance {
+        let Film {
+            mut total,
+            mut by_class,
+        } = self;
+        for img in std::iter::once(&mut total).chain(by_class.iter_mut()) {
+            for v in &mut img.data {
+                *v /= pixel_area_m2;
+            }
         }
+        Irradiance { total, by_class }
     }
-    Irradiance { total, by_class }
 }

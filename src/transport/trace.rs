@@ -4,7 +4,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::connect::{connect, VertexOnSurface};
-use super::film::{develop, Irradiance, Splat};
+use super::film::{Film, Irradiance, Splat};
 use super::interaction::{scatter_rough, scatter_smooth, RoughVertex, SmoothOutcome};
 use super::lens::Aperture;
 use super::scene::{GlassSurface, SurfaceModel, TraceScene};
@@ -112,6 +112,10 @@ const ROULETTE_SURVIVAL: f64 = 0.125;
 /// Key word of the roulette's own random stream.
 const ROULETTE_KEY: u64 = 0x726f_756c_6574_7465;
 
+/// Chunks traced in parallel before their splats are summed: 1 M photons' worth, so a batch's
+/// splats take tens of megabytes whatever the photon count.
+const CHUNKS_PER_BATCH: u64 = 256;
+
 /// Sampler dimensions used per surface interaction beyond the laser's own.
 const DIMS_PER_VERTEX: u32 = 8;
 
@@ -126,39 +130,43 @@ pub fn render(
 ) -> (Irradiance, TraceStats) {
     let sampler = PoseSampler::new(settings.seed, pose_index);
     let chunks = settings.photons.div_ceil(CHUNK);
-    let results: Vec<(Vec<Splat>, TraceStats)> = (0..chunks)
-        .into_par_iter()
-        .map(|c| {
-            let aperture = Aperture::new(&head.camera, sensor_pose);
-            let mut tracer = Tracer {
-                scene,
-                head,
-                aperture,
-                settings,
-                sampler: &sampler,
-                pose_index,
-                splats: Vec::new(),
-                stats: TraceStats::default(),
-            };
-            let end = ((c + 1) * CHUNK).min(settings.photons);
-            for i in c * CHUNK..end {
-                tracer.trace_photon(i);
-            }
-            (tracer.splats, tracer.stats)
-        })
-        .collect();
     let cam = &head.camera;
     let spec = cam.spec();
-    let image = develop(
-        spec.columns,
-        spec.rows,
-        cam.pixel_area(),
-        results.iter().map(|(s, _)| s.as_slice()),
-    );
+    let mut film = Film::new(spec.columns, spec.rows);
     let mut stats = TraceStats::default();
-    for (_, s) in &results {
-        stats.add(s);
+    // Chunks run in parallel a batch at a time and are summed in chunk order, so the images
+    // are the same for any thread count and memory does not grow with the photon count.
+    let mut first = 0;
+    while first < chunks {
+        let last = (first + CHUNKS_PER_BATCH).min(chunks);
+        let results: Vec<(Vec<Splat>, TraceStats)> = (first..last)
+            .into_par_iter()
+            .map(|c| {
+                let aperture = Aperture::new(&head.camera, sensor_pose);
+                let mut tracer = Tracer {
+                    scene,
+                    head,
+                    aperture,
+                    settings,
+                    sampler: &sampler,
+                    pose_index,
+                    splats: Vec::new(),
+                    stats: TraceStats::default(),
+                };
+                let end = ((c + 1) * CHUNK).min(settings.photons);
+                for i in c * CHUNK..end {
+                    tracer.trace_photon(i);
+                }
+                (tracer.splats, tracer.stats)
+            })
+            .collect();
+        for (splats, s) in &results {
+            film.add(splats);
+            stats.add(s);
+        }
+        first = last;
     }
+    let image = film.develop(cam.pixel_area());
     (image, stats)
 }
 
