@@ -101,9 +101,14 @@ pub fn named_rows<'a>(
 /// [`crate::limits::MAX_LENGTH_MM`]); rows with all three empty are skipped. Returns the points with their 1-based line numbers.
 pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
     let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    parse_points_csv(path, &text)
+}
+
+/// [`read_points_csv`] of a file's text already in memory (`path` names it in messages).
+pub fn parse_points_csv(path: &Path, text: &str) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
     const COLUMNS: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
     let mut points = Vec::new();
-    for row in named_rows(path, &text, &COLUMNS)? {
+    for row in named_rows(path, text, &COLUMNS)? {
         if row.fields.iter().all(|f| f.is_empty()) {
             continue;
         }

@@ -82,6 +82,11 @@ impl fmt::Display for CsvLine<'_> {
 /// number and column name. `\r\n` line endings are accepted.
 pub fn read_profile_csv(path: &Path) -> Result<Profile, DatasetError> {
     let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    parse_profile_csv(path, &text)
+}
+
+/// [`read_profile_csv`] of a file's text already in memory (`path` names it in messages).
+pub fn parse_profile_csv(path: &Path, text: &str) -> Result<Profile, DatasetError> {
     let mut lines = text.lines();
     let header = lines.next().unwrap_or("");
     if header != HEADER {

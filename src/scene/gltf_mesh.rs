@@ -52,17 +52,44 @@ pub enum GltfMeshError {
 /// default) of a `.gltf` or `.glb` file, with positions multiplied by `scale` (file units →
 /// metres). Triangles are `SurfacePart::Solid`.
 pub fn load_gltf_mesh(path: &Path, scale: f64) -> Result<Mesh, GltfMeshError> {
-    if let Err(source) = std::fs::metadata(path) {
-        return Err(GltfMeshError::Open {
-            path: path.to_owned(),
-            source,
-        });
-    }
+    let bytes = std::fs::read(path).map_err(|source| GltfMeshError::Open {
+        path: path.to_owned(),
+        source,
+    })?;
+    load_gltf_mesh_from_slice(path, &bytes, scale)
+}
+
+/// [`load_gltf_mesh`] of a file's bytes already in memory; external buffers (`.bin`) are
+/// looked up next to `path`.
+pub fn load_gltf_mesh_from_slice(
+    path: &Path,
+    bytes: &[u8],
+    scale: f64,
+) -> Result<Mesh, GltfMeshError> {
     let invalid = |e: gltf::Error| GltfMeshError::Invalid {
-        message: e.to_string(),
+        message: describe(&e, bytes),
     };
-    let gltf = gltf::Gltf::open(path).map_err(invalid)?;
+    check_glb_header(bytes).map_err(|message| GltfMeshError::Invalid { message })?;
+    check_accessor_indices(bytes).map_err(|message| GltfMeshError::Invalid { message })?;
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(invalid)?;
     let base = path.parent().unwrap_or(Path::new("."));
+    // The reader's own error for a missing external buffer names no file.
+    for buffer in gltf.document.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source() {
+            if !uri.starts_with("data:") {
+                let file = base.join(uri);
+                if !file.is_file() {
+                    return Err(GltfMeshError::Invalid {
+                        message: format!(
+                            "buffer {} refers to `{}`, which does not exist",
+                            buffer.index(),
+                            file.display()
+                        ),
+                    });
+                }
+            }
+        }
+    }
     let buffers =
         gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone()).map_err(invalid)?;
     let scene = gltf
@@ -106,6 +133,117 @@ pub fn load_gltf_mesh(path: &Path, scale: f64) -> Result<Mesh, GltfMeshError> {
     Ok(out)
 }
 
+/// Refuses a GLB whose header states a total length below the header's own 12 bytes: the
+/// glTF reader subtracts 12 from it unchecked (gltf 1.4.1 `binary.rs:252`, an overflow;
+/// found by the `gltf_mesh` fuzz target).
+fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
+    if let (Some(b"glTF"), Some(length)) = (bytes.get(..4), bytes.get(8..12)) {
+        let length = u32::from_le_bytes(length.try_into().expect("4 bytes"));
+        if length < 12 {
+            return Err(format!(
+                "invalid GLB: its header states {length} bytes in all, less than the 12-byte \
+                 header itself"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a primitive whose attributes name an accessor the file does not have, before the
+/// glTF reader's validation indexes its accessor list with it (gltf-json 1.4.1 panics there,
+/// `mesh.rs:151`; found by the `gltf_mesh` fuzz target). Input the reader cannot even
+/// deserialise is left to it, so that its own message reports it.
+fn check_accessor_indices(bytes: &[u8]) -> Result<(), String> {
+    let json: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
+        match gltf::Glb::from_slice(bytes) {
+            Ok(glb) => glb.json,
+            Err(_) => return Ok(()),
+        }
+    } else {
+        bytes.into()
+    };
+    let Ok(root) = gltf::json::Root::from_slice(&json) else {
+        return Ok(());
+    };
+    let n = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let targets = prim.targets.iter().flatten();
+            let morph = targets.flat_map(|t| [&t.positions, &t.normals, &t.tangents]);
+            let used = (prim.attributes.values().map(|i| i.value()))
+                .chain(prim.indices.iter().map(|i| i.value()))
+                .chain(morph.flatten().map(|i| i.value()));
+            for index in used {
+                if index >= n {
+                    return Err(format!(
+                        "mesh {m} primitive {p} refers to accessor {index}, but the file has \
+                         {n} accessor(s)"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Refuses accessors of a type the glTF 2.0 core allows not for their role (§3.7.2.1):
+/// POSITION and NORMAL must be float VEC3, indices unsigned-integer SCALAR. The glTF reader
+/// assumes so and panics otherwise (gltf 1.4.1 `mesh/mod.rs:396`, `unreachable!()` for float
+/// indices; found by the `gltf_mesh` fuzz target).
+fn check_accessor_types(mesh: usize, prim: &gltf::Primitive) -> Result<(), GltfMeshError> {
+    use gltf::accessor::{DataType, Dimensions};
+    use gltf::Semantic;
+    let bad = |what: &str, expected: &str, a: &gltf::Accessor| GltfMeshError::Invalid {
+        message: format!(
+            "mesh {mesh} primitive {}: {what} accessor {} is {:?} {:?}, expected {expected}",
+            prim.index(),
+            a.index(),
+            a.dimensions(),
+            a.data_type()
+        ),
+    };
+    for (semantic, a) in prim.attributes() {
+        let what = match semantic {
+            Semantic::Positions => "POSITION",
+            Semantic::Normals => "NORMAL",
+            _ => continue,
+        };
+        if a.dimensions() != Dimensions::Vec3 || a.data_type() != DataType::F32 {
+            return Err(bad(what, "Vec3 F32", &a));
+        }
+    }
+    if let Some(a) = prim.indices() {
+        let unsigned = matches!(a.data_type(), DataType::U8 | DataType::U16 | DataType::U32);
+        if a.dimensions() != Dimensions::Scalar || !unsigned {
+            return Err(bad("the indices", "Scalar U8, U16 or U32", &a));
+        }
+    }
+    Ok(())
+}
+
+/// The glTF reader's error in words a user can act on: an empty or truncated file says so
+/// (the reader's own message for both is "failed to fill whole buffer").
+fn describe(error: &gltf::Error, bytes: &[u8]) -> String {
+    use gltf::binary::Error as Glb;
+    match error {
+        _ if bytes.is_empty() => "the file is empty (expected glTF JSON or a GLB binary)".into(),
+        gltf::Error::Binary(Glb::Io(e)) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
+            format!(
+                "truncated GLB: the file ends after {} bytes, inside its 12-byte header or \
+                 a chunk header",
+                bytes.len()
+            )
+        }
+        // The reader counts both lengths after the 12-byte header.
+        gltf::Error::Binary(Glb::Length { length, .. }) => format!(
+            "truncated GLB: its header states {} bytes, the file has {}",
+            u64::from(*length) + 12,
+            bytes.len()
+        ),
+        other => other.to_string(),
+    }
+}
+
 /// The triangles of one glTF mesh, transformed by `world`.
 fn mesh_part(
     mesh: &gltf::Mesh,
@@ -132,6 +270,7 @@ fn mesh_part(
                 mode: mode_name(mode),
             });
         }
+        check_accessor_types(name, &prim)?;
         let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
         let positions: Vec<Point3<f64>> = reader
             .read_positions()
@@ -289,6 +428,72 @@ mod tests {
     fn missing_file_is_an_open_error() {
         let err = load_gltf_mesh(&fixture("no-such-file.gltf"), 1.0).unwrap_err();
         assert!(matches!(err, GltfMeshError::Open { .. }), "{err}");
+    }
+
+    #[test]
+    fn empty_truncated_and_missing_buffer_files_say_what_is_wrong() {
+        let dir = Path::new("/nonexistent-dir/part.glb");
+        let msg = |bytes: &[u8]| {
+            load_gltf_mesh_from_slice(dir, bytes, 1.0)
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            msg(b""),
+            "the file is empty (expected glTF JSON or a GLB binary)"
+        );
+        assert!(
+            msg(b"glTF\x02\0\0").contains("truncated GLB"),
+            "{}",
+            msg(b"glTF\x02\0\0")
+        );
+        // A 20-byte file whose header claims 1000 bytes.
+        let mut glb = b"glTF".to_vec();
+        glb.extend(2u32.to_le_bytes());
+        glb.extend(1000u32.to_le_bytes());
+        glb.extend([0u8; 8]);
+        assert!(
+            msg(&glb).contains("header states 1000 bytes, the file has 20"),
+            "{}",
+            msg(&glb)
+        );
+        glb[8..12].copy_from_slice(&3u32.to_le_bytes());
+        assert!(msg(&glb).contains("states 3 bytes in all"), "{}", msg(&glb));
+        let json =
+            br#"{"asset":{"version":"2.0"},"buffers":[{"uri":"missing.bin","byteLength":12}]}"#;
+        assert_eq!(
+            msg(json),
+            "buffer 0 refers to `/nonexistent-dir/missing.bin`, which does not exist"
+        );
+    }
+
+    #[test]
+    fn an_accessor_index_out_of_range_is_an_error_not_a_panic() {
+        // The fuzz target's first crash, reduced: POSITION names accessor 0 of none.
+        let json = br#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}"#;
+        let err = load_gltf_mesh_from_slice(Path::new("x.gltf"), json, 1.0).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "mesh 0 primitive 0 refers to accessor 0, but the file has 0 accessor(s)"
+        );
+    }
+
+    #[test]
+    fn float_indices_are_an_error_not_a_panic() {
+        // One vertex (12 zero bytes in a data URI) and an index accessor of FLOAT (5126), which
+        // the glTF reader meets with `unreachable!()`.
+        let json = br#"{"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+            "buffers":[{"byteLength":12,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],
+            "bufferViews":[{"buffer":0,"byteLength":12}],
+            "accessors":[{"bufferView":0,"componentType":5126,"count":1,"type":"VEC3","min":[0,0,0],"max":[0,0,0]},
+                         {"bufferView":0,"componentType":5126,"count":3,"type":"SCALAR"}],
+            "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1}]}]}"#;
+        let err = load_gltf_mesh_from_slice(Path::new("x.gltf"), json, 1.0).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("the indices accessor 1 is Scalar F32, expected Scalar U8, U16 or U32"),
+            "{err}"
+        );
     }
 
     #[test]
