@@ -554,3 +554,61 @@ fn check_passes_against_its_own_baseline_and_fails_on_a_regression() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("photons"), "{}", stderr(&o));
 }
+
+#[test]
+fn physically_empty_or_flooded_frames_are_warned_about_on_stderr_and_in_json() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (exposure, needle) in [
+        ("1e-6", "pose 0: no valid profile point"),
+        (
+            "1e6",
+            "pose 0: 532480 of 532480 pixels (100 %) are saturated",
+        ),
+    ] {
+        let out = out_dir(&tmp, exposure);
+        let o = glassscan(&[
+            "scan",
+            "scenes/flat_opaque.toml",
+            "--out",
+            s(&out),
+            "--poses",
+            "1",
+            "--photons",
+            "5000",
+            "--exposure-ms",
+            exposure,
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("warning: {needle}")),
+            "{}",
+            stderr(&o)
+        );
+        let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let warnings = summary["poses"][0]["warnings"].as_array().unwrap();
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.as_str().unwrap().contains(needle)),
+            "{summary}"
+        );
+    }
+    // The shipped scene at its own settings warns about nothing.
+    let out = out_dir(&tmp, "plain");
+    let o = glassscan(&[
+        "scan",
+        "scenes/flat_opaque.toml",
+        "--out",
+        s(&out),
+        "--poses",
+        "1",
+        "--photons",
+        "5000",
+    ]);
+    assert!(
+        o.status.success() && !stderr(&o).contains("warning"),
+        "{}",
+        stderr(&o)
+    );
+}

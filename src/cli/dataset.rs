@@ -107,6 +107,9 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
         for d in &outcome.damage {
             eprintln!("warning: damaged sample file, made again: {d}");
         }
+        for w in &outcome.warnings {
+            eprintln!("warning: {w}");
+        }
         if args.json {
             let summary = serde_json::json!({
                 "out": args.out.display().to_string(),
@@ -118,6 +121,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
                 "made": outcome.made,
                 "damaged_samples": outcome.damaged_samples,
                 "damage": outcome.damage,
+                "warnings": outcome.warnings,
                 "elapsed_s": elapsed_s,
             });
             super::print_json(&summary)?;

@@ -58,11 +58,14 @@ pub struct PoseEntry {
     pub stats: TraceStats,
     /// Files written for this pose.
     pub files: Vec<FileEntry>,
+    /// Why the pose's result may be physically empty or meaningless (`scan::warnings`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 impl PoseEntry {
     /// Summarises a simulated pose.
-    pub fn new(r: &PoseResult, files: Vec<FileEntry>) -> Self {
+    pub fn new(r: &PoseResult, files: Vec<FileEntry>, warnings: Vec<String>) -> Self {
         let e = r.pose.edge_point * 1e3;
         PoseEntry {
             index: r.pose.index,
@@ -87,6 +90,7 @@ impl PoseEntry {
             saturated_pixels: r.saturated_pixels,
             stats: r.stats,
             files,
+            warnings,
         }
     }
 }
@@ -192,6 +196,8 @@ pub struct SummaryPose {
     pub edge_point_mm: [f64; 3],
     /// Files, relative to the output directory.
     pub files: Vec<String>,
+    /// The pose's warnings (empty: none).
+    pub warnings: Vec<String>,
 }
 
 impl Summary {
@@ -211,6 +217,7 @@ impl Summary {
                     saturated_pixels: p.saturated_pixels,
                     edge_point_mm: p.edge_point_mm,
                     files: p.files.iter().map(|f| f.path.clone()).collect(),
+                    warnings: p.warnings.clone(),
                 })
                 .collect(),
             elapsed_s: m.elapsed_s,

@@ -11,6 +11,7 @@ use super::{flags, progress, CliError};
 use crate::dataset::{exr, json, output_dir, png16, profile_csv};
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::simulate_pose;
+use crate::scan::warnings::pose_warnings;
 use crate::scan::ScanConfig;
 use crate::scene;
 use crate::sensor::imager::SensorKind;
@@ -165,6 +166,10 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
         profile_csv::write_profile_csv(&cfg.out.join(&csv), &result.profile)
             .map_err(CliError::internal)?;
         written.extend([png.clone(), exr_name.clone(), csv.clone()]);
+        let warnings = pose_warnings(&result, &world.sensor.range);
+        for w in &warnings {
+            bar.suspend(|| eprintln!("warning: {w}"));
+        }
         let entry = PoseEntry::new(
             &result,
             vec![
@@ -176,6 +181,7 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
                 ),
                 FileEntry::new("profile", &csv, "CSV profile in the sensor frame, mm"),
             ],
+            warnings,
         );
         if !cfg.json {
             bar.suspend(|| {

@@ -250,6 +250,7 @@ mod tests {
             labels: Default::default(),
             saturated_pixels: 0,
             files: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 

@@ -62,6 +62,8 @@ pub struct DatasetOutcome {
     pub damaged_samples: u64,
     /// What was damaged, one message per file.
     pub damage: Vec<String>,
+    /// The warnings of the samples this run made (`scan::warnings`), "sample N: …".
+    pub warnings: Vec<String>,
 }
 
 impl DatasetRun<'_> {
@@ -119,6 +121,7 @@ impl DatasetRun<'_> {
             .filter(|&i| !finished.contains(i))
             .peekable();
         let mut made = 0;
+        let mut warned = Vec::new();
         let remade_any = prepared.damaged_samples > 0;
         while todo.peek().is_some() {
             let indices: Vec<u64> = todo.by_ref().take(batch).collect();
@@ -134,7 +137,13 @@ impl DatasetRun<'_> {
                 .collect();
             // Record the batch in index order, up to the first failure.
             for line in lines {
-                writer.append(&line?)?;
+                let line = line?;
+                warned.extend(
+                    line.warnings
+                        .iter()
+                        .map(|w| format!("sample {}: {w}", line.index)),
+                );
+                writer.append(&line)?;
                 made += 1;
                 progress(1);
             }
@@ -151,6 +160,7 @@ impl DatasetRun<'_> {
             made,
             damaged_samples: prepared.damaged_samples,
             damage: prepared.damaged.iter().map(ToString::to_string).collect(),
+            warnings: warned,
         })
     }
 }

@@ -233,6 +233,7 @@ mod tests {
             labels: BTreeMap::new(),
             saturated_pixels: 0,
             files,
+            warnings: Vec::new(),
         }
     }
 

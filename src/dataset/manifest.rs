@@ -114,6 +114,10 @@ pub struct ManifestLine {
     /// Every file of the sample with its size and SHA-256, as written
     /// ([`super::integrity`]): what `--resume`, `merge` and `verify` check.
     pub files: Vec<FileRecord>,
+    /// Why the sample may be physically empty or meaningless (`scan::warnings`); absent when
+    /// there is nothing to say.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Appends manifest lines, one durable line at a time.
@@ -316,6 +320,7 @@ mod tests {
                 bytes: 12,
                 sha256: "ab".repeat(32),
             }],
+            warnings: Vec::new(),
         }
     }
 

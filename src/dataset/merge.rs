@@ -47,6 +47,12 @@ struct ShardFile {
 
 /// Merges the shard manifests found in `dirs` into `out/manifest.jsonl`.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError> {
+    if let Some(dir) = dirs.iter().find(|d| !d.is_dir()) {
+        return Err(DatasetError::NotADataset {
+            path: dir.clone(),
+            message: "expected a dataset directory to merge (made by `glassscan dataset`)".into(),
+        });
+    }
     let out_canonical =
         fs::canonicalize(out).map_err(|e| DatasetError::io(out, "open the output directory", e))?;
     let mut info: Option<(PathBuf, RunInfo)> = None;
@@ -249,6 +255,7 @@ mod tests {
             labels: Default::default(),
             saturated_pixels: 0,
             files: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 

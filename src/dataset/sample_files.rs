@@ -26,6 +26,7 @@ use super::sample::Sample;
 use super::{exr, json, png16, profile_csv, DatasetError};
 use crate::geometry::pose::PoseMmDeg;
 use crate::scan::bip::profile_in_base;
+use crate::scan::warnings::pose_warnings;
 use crate::sensor::path_class::PathClass;
 
 /// The file names inside a sample directory.
@@ -231,6 +232,7 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
         labels,
         saturated_pixels: r.saturated_pixels,
         files: record_files(dir, &FILES)?,
+        warnings: pose_warnings(r, &world.sensor.range),
     })
 }
 

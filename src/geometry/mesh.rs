@@ -107,13 +107,62 @@ impl Mesh {
                 return Err(format!("{} normals for {} vertices", ns.len(), n));
             }
         }
-        if let Some(p) = self
-            .positions
-            .iter()
-            .find(|p| !p.coords.iter().all(|c| c.is_finite()))
+        if let Some((i, p)) = (self.positions.iter().enumerate())
+            .find(|(_, p)| !p.coords.iter().all(|c| c.is_finite()))
         {
-            return Err(format!("non-finite vertex {p:?}"));
+            return Err(format!(
+                "vertex {i} is not finite ({}, {}, {})",
+                p.x, p.y, p.z
+            ));
+        }
+        let max_m = crate::limits::MAX_LENGTH_MM * 1e-3;
+        if let Some((i, p)) = (self.positions.iter().enumerate())
+            .find(|(_, p)| p.coords.iter().any(|c| c.abs() > max_m))
+        {
+            return Err(format!(
+                "vertex {i} at ({:e}, {:e}, {:e}) m is more than 100 m from the origin (a file \
+                 in other units needs `scale`)",
+                p.x, p.y, p.z
+            ));
+        }
+        let area2 = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|k| self.positions[k as usize]);
+            (b - a).cross(&(c - a)).norm()
+        };
+        if !self.triangles.is_empty() && self.triangles.iter().all(|t| area2(t) == 0.0) {
+            return Err(format!(
+                "all {} triangles have zero area (a degenerate mesh, which no ray can hit)",
+                self.triangles.len()
+            ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle(c: Point3<f64>) -> Mesh {
+        Mesh {
+            positions: vec![Point3::origin(), Point3::new(1.0, 0.0, 0.0), c],
+            triangles: vec![[0, 1, 2]],
+            parts: vec![SurfacePart::Solid],
+            ..Mesh::default()
+        }
+    }
+
+    #[test]
+    fn check_names_the_bad_vertex_and_refuses_meshes_no_ray_can_hit() {
+        assert_eq!(triangle(Point3::new(0.0, 1.0, 0.0)).check(), Ok(()));
+        let e = triangle(Point3::new(f64::NAN, 1.0, 0.0))
+            .check()
+            .unwrap_err();
+        assert!(e.starts_with("vertex 2 is not finite"), "{e}");
+        let e = triangle(Point3::new(0.0, 1e300, 0.0)).check().unwrap_err();
+        assert!(e.contains("vertex 2") && e.contains("`scale`"), "{e}");
+        // Collinear: zero area.
+        let e = triangle(Point3::new(2.0, 0.0, 0.0)).check().unwrap_err();
+        assert!(e.contains("all 1 triangles have zero area"), "{e}");
     }
 }

@@ -11,6 +11,7 @@ pub mod errors;
 pub mod locate;
 pub mod poses;
 pub mod simulate;
+pub mod warnings;
 
 /// Scan settings from the scene's `[scan]` section, overridable from the command line.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

@@ -146,8 +146,9 @@ pub enum SceneError {
     },
     /// An object names a material that `[materials]` does not define.
     #[error(
-        "{}:{line}:{column}: {field}: unknown material `{name}`, expected {}",
+        "{}:{line}:{column}: {field}: unknown material `{}`, expected {}",
         path.display(),
+        clipped(name),
         one_of(known, "a material defined under [materials] (none are defined)")
     )]
     UnknownMaterial {
@@ -166,8 +167,9 @@ pub enum SceneError {
     },
     /// `target.object` names no object.
     #[error(
-        "{}:{line}:{column}: {field}: unknown object `{name}`, expected {}",
+        "{}:{line}:{column}: {field}: unknown object `{}`, expected {}",
         path.display(),
+        clipped(name),
         one_of(known, "an object name")
     )]
     UnknownObject {
@@ -187,9 +189,10 @@ pub enum SceneError {
     /// `target.object` names an object that is not a procedural panel, so it has no border
     /// curve to scan.
     #[error(
-        "{}:{line}:{column}: {field}: object `{name}` is a {kind} object, expected a panel \
+        "{}:{line}:{column}: {field}: object `{}` is a {kind} object, expected a panel \
          object (only a panel has a border curve to scan)",
-        path.display()
+        path.display(),
+        clipped(name)
     )]
     TargetNotPanel {
         /// The scene file.
@@ -232,7 +235,7 @@ pub enum SceneError {
 fn quoted_list(names: &[String]) -> String {
     names
         .iter()
-        .map(|n| format!("`{n}`"))
+        .map(|n| format!("`{}`", clipped(n)))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -393,6 +396,16 @@ impl SceneSource<'_> {
     }
 }
 
+/// A name as a message shows it: whole up to 80 characters, else its first 80 and a count (a
+/// 5 MB name is not echoed whole).
+fn clipped(name: &str) -> String {
+    const SHOWN: usize = 80;
+    match name.char_indices().nth(SHOWN) {
+        None => name.to_owned(),
+        Some((cut, _)) => format!("{}… ({} characters)", &name[..cut], name.chars().count()),
+    }
+}
+
 /// A number as a message shows it: plain, or in scientific notation when plain would be long
 /// (`1e300`, not three hundred digits).
 fn shown(v: f64) -> String {
@@ -514,6 +527,23 @@ fn inline_keys(prefix: &str) -> Vec<String> {
     stack.extend(pending);
     stack.retain(|k| !k.is_empty());
     stack
+}
+
+#[cfg(test)]
+mod clipping_tests {
+    use super::clipped;
+
+    #[test]
+    fn long_names_are_clipped_in_messages() {
+        assert_eq!(clipped("window"), "window");
+        let long = "é".repeat(5_000_000);
+        let c = clipped(&long);
+        assert!(
+            c.ends_with("… (5000000 characters)") && c.chars().count() < 110,
+            "{}",
+            c.len()
+        );
+    }
 }
 
 #[cfg(test)]

@@ -493,6 +493,6 @@ preset = "scancontrol-2600-100"
             .map(|_| ())
             .unwrap_err()
             .to_string();
-        assert!(m.contains("objects[0].panel.outline.corner_radius_mm must be 0 or > the edge finish's deepest inset 0.0008 m"), "{m}");
+        assert!(m.contains("objects[0].panel.outline.corner_radius_mm must be 0 or > the edge finish's deepest inset 0.8 mm"), "{m}");
     }
 }

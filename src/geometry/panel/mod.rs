@@ -213,13 +213,17 @@ fn check_corner_radius(
 ) -> Result<(), PanelError> {
     let r = corner_radius(outline);
     if r > 0.0 && r <= inset_m {
+        // The fields are `_mm` keys, so the message speaks millimetres (to the nanometre, so
+        // that 0.0008 m reads 0.8 mm, not 0.8000000000000002).
+        let mm = |m: f64| (m * 1e9).round() / 1e6;
+        let (inset_mm, r_mm) = (mm(inset_m), mm(r));
         let message = if field == "corner_radius_mm" {
-            format!("must be 0 or > the edge finish's deepest inset {inset_m} m, got {r} m")
+            format!("must be 0 or > the edge finish's deepest inset {inset_mm} mm, got {r_mm} mm")
         } else {
             format!(
-                "reaches {inset_m} m in from the outline, past the outline's corner radius \
-                 {r} m (the corners would turn inside out); use a smaller value, or a corner \
-                 radius of 0 or > {inset_m} m"
+                "reaches {inset_mm} mm in from the outline, past the outline's corner radius \
+                 {r_mm} mm (the corners would turn inside out); use a smaller value, or a \
+                 corner radius of 0 or > {inset_mm} mm"
             )
         };
         return Err(invalid(field, message));
