@@ -612,3 +612,39 @@ fn physically_empty_or_flooded_frames_are_warned_about_on_stderr_and_in_json() {
         stderr(&o)
     );
 }
+
+#[test]
+fn locate_force_with_fewer_poses_leaves_only_its_own_profiles() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = out_dir(&tmp, "loc");
+    for (poses, force) in [("4", false), ("3", true)] {
+        let mut args = vec![
+            "locate",
+            "scenes/flat_panel.toml",
+            "--poses",
+            poses,
+            "--photons",
+            "4096",
+            "--out",
+            s(&out),
+        ];
+        if force {
+            args.push("--force");
+        }
+        let o = glassscan(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let mut names: Vec<String> = std::fs::read_dir(out.join("profiles"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "pose_000_profile.csv",
+            "pose_001_profile.csv",
+            "pose_002_profile.csv"
+        ]
+    );
+}

@@ -163,16 +163,27 @@ pub fn write_run(
             "blue: model border at the nominal pose",
         ),
     )?;
-    if let Some(e) = &estimate {
-        write_ply(
-            &dir.join("registration_after.ply"),
+    let after = dir.join("registration_after.ply");
+    match &estimate {
+        Some(e) => write_ply(
+            &after,
             &cloud(
                 &model.transformed(e),
                 ESTIMATE_BORDER_COLOR,
                 "green: model border at the estimated pose",
             ),
-        )?;
+        )?,
+        // No estimate: an earlier run's file would show a registration this one did not make.
+        None if after.exists() => std::fs::remove_file(&after)
+            .with_context(|| format!("could not remove {}", after.display()))?,
+        None => {}
     }
     write_json_pretty(&dir.join("summary.json"), summary)?;
+    // A --force run with fewer poses leaves only its own profiles.
+    let written: std::collections::BTreeSet<String> = (0..report.poses.len())
+        .map(|k| format!("pose_{k:03}_profile.csv"))
+        .collect();
+    let is_profile = |n: &str| n.starts_with("pose_") && n.ends_with("_profile.csv");
+    crate::dataset::output_dir::remove_stale(&profiles, is_profile, &written)?;
     Ok(())
 }
