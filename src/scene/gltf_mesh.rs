@@ -134,7 +134,7 @@ pub fn load_gltf_mesh_from_slice(
 }
 
 /// Refuses a GLB whose header states a total length below the header's own 12 bytes: the
-/// glTF reader subtracts 12 from it unchecked (gltf 1.4.1 `binary.rs:252`, an overflow;
+/// glTF reader subtracts 12 from it unchecked (gltf 1.4.1, `Glb::from_slice`: an overflow;
 /// found by the `gltf_mesh` fuzz target).
 fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
     if let (Some(b"glTF"), Some(length)) = (bytes.get(..4), bytes.get(8..12)) {
@@ -151,8 +151,8 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
 
 /// Refuses a primitive whose attributes name an accessor the file does not have, before the
 /// glTF reader's validation indexes its accessor list with it (gltf-json 1.4.1 panics there,
-/// `mesh.rs:151`; found by the `gltf_mesh` fuzz target). Input the reader cannot even
-/// deserialise is left to it, so that its own message reports it.
+/// in its primitive validation hook; found by the `gltf_mesh` fuzz target). Input the reader
+/// cannot even deserialise is left to it, so that its own message reports it.
 fn check_accessor_indices(bytes: &[u8]) -> Result<(), String> {
     let json: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
         match gltf::Glb::from_slice(bytes) {
@@ -188,8 +188,8 @@ fn check_accessor_indices(bytes: &[u8]) -> Result<(), String> {
 
 /// Refuses accessors of a type the glTF 2.0 core allows not for their role (§3.7.2.1):
 /// POSITION and NORMAL must be float VEC3, indices unsigned-integer SCALAR. The glTF reader
-/// assumes so and panics otherwise (gltf 1.4.1 `mesh/mod.rs:396`, `unreachable!()` for float
-/// indices; found by the `gltf_mesh` fuzz target).
+/// assumes so and panics otherwise (gltf 1.4.1, `Reader::read_indices`: `unreachable!()` for
+/// float indices; found by the `gltf_mesh` fuzz target).
 fn check_accessor_types(mesh: usize, prim: &gltf::Primitive) -> Result<(), GltfMeshError> {
     use gltf::accessor::{DataType, Dimensions};
     use gltf::Semantic;
