@@ -11,15 +11,15 @@
 //! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
-//! Synthetic datasets (`glassscan dataset`, `merge`, `verify`, `score`), built on the writers above and
-//! on `scene` and `scan`:
+//! Synthetic datasets (`glassscan dataset`, `merge`, `verify`, `score`), built on the writers
+//! above and on `scene` and `scan`:
 //! - `randomize` (the `--randomize` ranges and the per-sample draws), `scene_edit` (a scene
 //!   file edited with the draws and loaded again), `ideal_profile` (the exact cross-section
 //!   the laser plane cuts), `sample` (one sample end to end), `sample_files` (its directory);
 //! - `manifest` (`run.json` and the JSON-lines manifests), `integrity` (each sample file's
 //!   size and SHA-256 in its manifest line, and the check of a finished sample),
-//!   `dataset_dir` (refuse, start or resume an output directory), `shard` (`--shard K/N` and scheduler environments),
-//!   `generate` (the run loop), `merge` (shard manifests → `manifest.jsonl`, refused while a
+//!   `dataset_dir` (refuse, start or resume an output directory), `shard` (`--shard K/N` and
+//!   scheduler environments), `generate` (the run loop), `merge` (shard manifests → `manifest.jsonl`, refused while a
 //!   sample is damaged), `verify` (a whole dataset against its manifests), `score` (a
 //!   user's BIPs against the ground truth).
 //!
