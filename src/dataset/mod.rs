@@ -19,9 +19,9 @@
 //! - `manifest` (`run.json` and the JSON-lines manifests), `integrity` (each sample file's
 //!   size and SHA-256 in its manifest line, and the check of a finished sample),
 //!   `dataset_dir` (refuse, start or resume an output directory), `shard` (`--shard K/N` and
-//!   scheduler environments), `generate` (the run loop), `merge` (shard manifests → `manifest.jsonl`, refused while a
-//!   sample is damaged), `verify` (a whole dataset against its manifests), `score` (a
-//!   user's BIPs against the ground truth).
+//!   scheduler environments), `generate` (the run loop), `merge` (shard manifests →
+//!   `manifest.jsonl`, refused while a sample is damaged), `verify` (a whole dataset against
+//!   its manifests), `score` (a user's BIPs against the ground truth).
 //!
 //! Invariants:
 //! - Only `scene` (reading inputs) and `dataset` (writing outputs) touch the file system.
