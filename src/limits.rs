@@ -25,6 +25,12 @@ pub const MAX_DEPTH: u32 = 4096;
 /// Most samples of one dataset (all shards): the run keeps one bit per sample (12.5 MB).
 pub const MAX_SAMPLES: u64 = 100_000_000;
 
+/// Most elements one glTF accessor may hold (vertices, normals or indices of a primitive):
+/// 2²⁶ ≈ 6.7·10⁷, i.e. a 1.6 GB position array once read as f64 points and far beyond any
+/// part a triangulation sensor scans (a car door is ~10⁶ triangles). A sparse accessor
+/// without a buffer view states its count without bytes to back it, so only this bounds it.
+pub const MAX_ACCESSOR_COUNT: usize = 1 << 26;
+
 /// Whether the scene key `field` (a dotted path, perhaps with `[i]` indices) is a length by
 /// the unit-suffix convention (`_mm`, `_um`), and its largest magnitude in that unit.
 pub fn length_bound(field: &str) -> Option<f64> {

@@ -221,6 +221,121 @@ fn check_accessor_types(mesh: usize, prim: &gltf::Primitive) -> Result<(), GltfM
     Ok(())
 }
 
+/// Refuses a POSITION, NORMAL or index accessor whose stated layout does not fit the bytes
+/// behind it, before the glTF reader computes its slice unchecked (gltf 1.4.1,
+/// `accessor::util::Iter::new`: `stride * (count - 1)`, an overflow for `"count": 0`, found
+/// by the `gltf_mesh` fuzz target in CI; a stride below the element size trips its debug
+/// assertion). The glTF 2.0 schema requires `count` ≥ 1 (accessor and sparse), a
+/// `byteStride` of at least the element size, each accessor inside its buffer view and each
+/// buffer view inside its buffer (§3.6.2.4, Data Alignment, states the accessor bound as
+/// `byteOffset + stride · (count − 1) + element size ≤ bufferView.byteLength`).
+fn check_accessor_layouts(
+    mesh: usize,
+    prim: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), GltfMeshError> {
+    use gltf::Semantic;
+    let used = prim
+        .attributes()
+        .filter_map(|(semantic, a)| match semantic {
+            Semantic::Positions => Some(("POSITION", a)),
+            Semantic::Normals => Some(("NORMAL", a)),
+            _ => None,
+        })
+        .chain(prim.indices().map(|a| ("indices", a)));
+    for (what, a) in used {
+        let element = a.size();
+        let sparse = a.sparse();
+        let mut parts = Vec::with_capacity(3);
+        if let Some(view) = a.view() {
+            parts.push(("", view, a.offset(), a.count(), element));
+        }
+        if let Some(s) = &sparse {
+            let ix = s.indices();
+            let values = s.values();
+            parts.push((
+                "its sparse indices: ",
+                ix.view(),
+                ix.offset(),
+                s.count(),
+                ix.index_type().size(),
+            ));
+            parts.push((
+                "its sparse values: ",
+                values.view(),
+                values.offset(),
+                s.count(),
+                element,
+            ));
+        }
+        let fail = |message: String| GltfMeshError::Invalid {
+            message: format!(
+                "mesh {mesh} primitive {}: {what} accessor {}: {message}",
+                prim.index(),
+                a.index()
+            ),
+        };
+        if a.count() > crate::limits::MAX_ACCESSOR_COUNT {
+            return Err(fail(format!(
+                "count {} exceeds the limit of {} elements",
+                a.count(),
+                crate::limits::MAX_ACCESSOR_COUNT
+            )));
+        }
+        for (role, view, offset, count, size) in parts {
+            check_slice(view, offset, count, size, buffers)
+                .map_err(|m| fail(format!("{role}{m}")))?;
+        }
+    }
+    Ok(())
+}
+
+/// Whether `count` elements of `size` bytes from `offset` into `view` (at the view's stride,
+/// or packed) lie inside the view, and the view inside its buffer; all in checked arithmetic,
+/// since every number comes from the file.
+fn check_slice(
+    view: gltf::buffer::View,
+    offset: usize,
+    count: usize,
+    size: usize,
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), String> {
+    let v = view.index();
+    if count == 0 {
+        return Err("count is 0, expected at least 1".to_owned());
+    }
+    let stride = view.stride().unwrap_or(size);
+    if stride < size {
+        return Err(format!(
+            "buffer view {v} has byteStride {stride}, less than the {size}-byte element"
+        ));
+    }
+    let end = (count - 1)
+        .checked_mul(stride)
+        .and_then(|n| n.checked_add(offset))
+        .and_then(|n| n.checked_add(size));
+    match end {
+        Some(end) if end <= view.length() => {}
+        _ => {
+            return Err(format!(
+                "{count} elements of {size} bytes at offset {offset} and stride {stride} do \
+                 not fit buffer view {v} of {} bytes",
+                view.length()
+            ))
+        }
+    }
+    let buffer = view.buffer().index();
+    let have = buffers.get(buffer).map_or(0, |d| d.0.len());
+    match view.offset().checked_add(view.length()) {
+        Some(end) if end <= have => Ok(()),
+        _ => Err(format!(
+            "buffer view {v} spans bytes {}..+{} of buffer {buffer}, which holds {have}",
+            view.offset(),
+            view.length()
+        )),
+    }
+}
+
 /// The glTF reader's error in words a user can act on: an empty or truncated file says so
 /// (the reader's own message for both is "failed to fill whole buffer").
 fn describe(error: &gltf::Error, bytes: &[u8]) -> String {
@@ -271,6 +386,7 @@ fn mesh_part(
             });
         }
         check_accessor_types(name, &prim)?;
+        check_accessor_layouts(name, &prim, buffers)?;
         let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
         let positions: Vec<Point3<f64>> = reader
             .read_positions()
@@ -494,6 +610,102 @@ mod tests {
                 .contains("the indices accessor 1 is Scalar F32, expected Scalar U8, U16 or U32"),
             "{err}"
         );
+    }
+
+    /// A one-mesh file over a 36-byte buffer of zeros (three vertices), with the given buffer
+    /// views and accessors; POSITION is accessor 0, `indices` (if any) accessor 1.
+    fn three_vertex_file(views: &str, accessors: &str, indices: bool) -> Vec<u8> {
+        let indices = if indices { r#","indices":1"# } else { "" };
+        format!(
+            r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+            "buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{zeros}"}}],
+            "bufferViews":[{views}],"accessors":[{accessors}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}{indices}}}]}}]}}"#,
+            zeros = "A".repeat(48)
+        )
+        .into_bytes()
+    }
+
+    #[test]
+    fn accessor_layouts_that_do_not_fit_are_errors_not_panics() {
+        // The CI fuzz run's crash, reduced: `"count": 0` made the glTF reader compute
+        // `stride * (0 - 1)`. Each case must be refused with a message naming the accessor;
+        // in a debug build (overflow checks on) a missed case panics instead.
+        let msg = |views: &str, accessors: &str, indices: bool| {
+            let file = three_vertex_file(views, accessors, indices);
+            load_gltf_mesh_from_slice(Path::new("x.gltf"), &file, 1.0)
+                .unwrap_err()
+                .to_string()
+        };
+        let view = r#"{"buffer":0,"byteLength":36}"#;
+        let position = |count: &str| {
+            format!(
+                r#"{{"bufferView":0,"componentType":5126,"count":{count},"type":"VEC3",
+                "min":[0,0,0],"max":[0,0,0]}}"#
+            )
+        };
+        let cases = [
+            (
+                view.to_owned(),
+                position("0"),
+                false,
+                "POSITION accessor 0: count is 0",
+            ),
+            (
+                view.to_owned(),
+                position("4"),
+                false,
+                "4 elements of 12 bytes at offset 0 and stride 12 do not fit buffer view 0 of 36",
+            ),
+            (
+                view.to_owned(),
+                position("1099511627776"),
+                false,
+                "count 1099511627776 exceeds the limit",
+            ),
+            (
+                r#"{"buffer":0,"byteLength":36,"byteStride":8}"#.to_owned(),
+                position("3"),
+                false,
+                "byteStride 8, less than the 12-byte element",
+            ),
+            (
+                r#"{"buffer":0,"byteOffset":12,"byteLength":36}"#.to_owned(),
+                position("3"),
+                false,
+                "buffer view 0 spans bytes 12..+36 of buffer 0, which holds 36",
+            ),
+            (
+                view.to_owned(),
+                format!(
+                    r#"{},{{"bufferView":0,"componentType":5123,"count":0,"type":"SCALAR"}}"#,
+                    position("3")
+                ),
+                true,
+                "indices accessor 1: count is 0",
+            ),
+            (
+                view.to_owned(),
+                r#"{"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0],"sparse":{"count":0,
+                    "indices":{"bufferView":0,"componentType":5123},"values":{"bufferView":0}}}"#
+                    .to_owned(),
+                false,
+                "POSITION accessor 0: its sparse indices: count is 0",
+            ),
+            (
+                view.to_owned(),
+                r#"{"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[0,0,0],"sparse":{"count":3,
+                    "indices":{"bufferView":0,"componentType":5123},
+                    "values":{"bufferView":0,"byteOffset":12}}}"#
+                    .to_owned(),
+                false,
+                "its sparse values: 3 elements of 12 bytes at offset 12",
+            ),
+        ];
+        for (views, accessors, indices, expected) in cases {
+            let m = msg(&views, &accessors, indices);
+            assert!(m.contains(expected), "expected `{expected}` in: {m}");
+        }
     }
 
     #[test]
