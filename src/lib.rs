@@ -11,6 +11,7 @@ pub mod check;
 pub mod cli;
 pub mod dataset;
 pub mod geometry;
+pub mod io;
 pub mod limits;
 pub mod localise;
 pub mod optics;

@@ -425,7 +425,7 @@ fn locate_out_files_feed_register_which_gives_the_same_pose() {
     ] {
         assert!(out.join(f).is_file(), "missing {f}");
     }
-    let cloud = glassscan::dataset::ply::read_ply(&out.join("registration_after.ply")).unwrap();
+    let cloud = glassscan::io::ply::read_ply(&out.join("registration_after.ply")).unwrap();
     assert_eq!(cloud.points.len(), cloud.colors.len());
     // The same BIPs from the same nominal pose: `register` reproduces locate's estimate.
     let r = glassscan(&[

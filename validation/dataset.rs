@@ -186,8 +186,8 @@ fn dataset_layout_and_ground_truth() {
             truth["profile_labels"].as_array().unwrap().len(),
             line.valid_points
         );
-        let ply = glassscan::dataset::ply::read_ply(&ds.join(&line.directory).join("points.ply"))
-            .unwrap();
+        let ply =
+            glassscan::io::ply::read_ply(&ds.join(&line.directory).join("points.ply")).unwrap();
         assert_eq!(ply.points.len(), line.valid_points);
     }
 }

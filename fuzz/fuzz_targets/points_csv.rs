@@ -7,6 +7,6 @@ use libfuzzer_sys::fuzz_target;
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
         let path = std::path::Path::new("points.csv");
-        let _ = glassscan::dataset::points_csv::parse_points_csv(path, text);
+        let _ = glassscan::io::points_csv::parse_points_csv(path, text);
     }
 });

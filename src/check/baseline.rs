@@ -6,8 +6,8 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::compare::Metrics;
-use crate::dataset::json::{read_json, write_json_pretty};
-use crate::dataset::DatasetError;
+use crate::io::json::{read_json, write_json_pretty};
+use crate::io::FileError;
 
 /// A suite's baseline file.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -20,7 +20,7 @@ pub struct Baseline {
 }
 
 /// Reads a baseline; a missing file is an empty baseline (every case new).
-pub fn read_baseline(path: &Path) -> Result<Baseline, DatasetError> {
+pub fn read_baseline(path: &Path) -> Result<Baseline, FileError> {
     if !path.exists() {
         return Ok(Baseline::default());
     }
@@ -28,7 +28,7 @@ pub fn read_baseline(path: &Path) -> Result<Baseline, DatasetError> {
 }
 
 /// Writes a baseline, atomically.
-pub fn write_baseline(path: &Path, baseline: &Baseline) -> Result<(), DatasetError> {
+pub fn write_baseline(path: &Path, baseline: &Baseline) -> Result<(), FileError> {
     write_json_pretty(path, baseline)
 }
 

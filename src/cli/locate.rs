@@ -142,7 +142,7 @@ fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
         }
     };
     if let Some(dir) = &args.output.out {
-        crate::dataset::output_dir::prepare_output_dir(dir, args.output.force)
+        crate::io::output_dir::prepare_output_dir(dir, args.output.force)
             .map_err(CliError::input)?;
     }
     Ok(Resolved {
@@ -229,8 +229,7 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
         locate_out::write_run(dir, &r.world, &glass, &summary).map_err(CliError::internal)?;
         if let Some(o) = &opaque {
             let sub = dir.join("opaque_copy");
-            crate::dataset::output_dir::prepare_output_dir(&sub, true)
-                .map_err(CliError::internal)?;
+            crate::io::output_dir::prepare_output_dir(&sub, true).map_err(CliError::internal)?;
             let world = r.opaque.as_ref().expect("ran");
             locate_out::write_run(&sub, world, o, &summary["opaque_copy"])
                 .map_err(CliError::internal)?;

@@ -9,11 +9,11 @@ use nalgebra::Point3;
 use serde_json::{json, Value};
 
 use super::manifest::PoseMmDeg;
-use crate::dataset::json::write_json_pretty;
-use crate::dataset::ply::{write_ply, PointCloud};
-use crate::dataset::points_csv::{write_csv_table, CsvTable};
-use crate::dataset::profile_csv::write_profile_csv;
 use crate::geometry::border::BorderCurve;
+use crate::io::json::write_json_pretty;
+use crate::io::ply::{write_ply, PointCloud};
+use crate::io::points_csv::{write_csv_table, CsvTable};
+use crate::io::profile_csv::write_profile_csv;
 use crate::scan::bip::Bip;
 use crate::scan::locate::{LocateReport, LocatedPose};
 use crate::scene::world::World;
@@ -184,6 +184,6 @@ pub fn write_run(
         .map(|k| format!("pose_{k:03}_profile.csv"))
         .collect();
     let is_profile = |n: &str| n.starts_with("pose_") && n.ends_with("_profile.csv");
-    crate::dataset::output_dir::remove_stale(&profiles, is_profile, &written)?;
+    crate::io::output_dir::remove_stale(&profiles, is_profile, &written)?;
     Ok(())
 }

@@ -93,10 +93,10 @@ impl CliError {
         }
     }
 
-    /// A dataset error: the file system refusing or a value that does not serialise (exit 1),
+    /// A file error: the file system refusing or a value that does not serialise (exit 1),
     /// or an input that is missing or not what it should be (exit 2).
-    pub fn from_dataset(error: crate::dataset::DatasetError) -> Self {
-        use crate::dataset::DatasetError as E;
+    pub fn from_file(error: crate::io::FileError) -> Self {
+        use crate::io::FileError as E;
         match &error {
             // A path the user named that does not exist is bad input; any other refusal of
             // the file system is not the input's fault.
@@ -105,6 +105,15 @@ impl CliError {
             }
             E::JsonWrite { .. } => CliError::internal(error),
             _ => CliError::input(error),
+        }
+    }
+
+    /// A dataset error: a file error as [`CliError::from_file`] classes it; anything else is
+    /// an input that is missing or not what it should be (exit 2).
+    pub fn from_dataset(error: crate::dataset::DatasetError) -> Self {
+        match error {
+            crate::dataset::DatasetError::File(e) => CliError::from_file(e),
+            other => CliError::input(other),
         }
     }
 
@@ -178,7 +187,7 @@ mod tests {
     #[test]
     fn error_chain_says_each_cause_once() {
         let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file");
-        let e = anyhow::Error::new(crate::dataset::DatasetError::Io {
+        let e = anyhow::Error::new(crate::io::FileError::Io {
             path: "x.csv".into(),
             action: "read",
             source: io,

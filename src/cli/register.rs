@@ -10,7 +10,7 @@ use serde_json::json;
 
 use super::manifest::PoseMmDeg;
 use super::CliError;
-use crate::dataset::points_csv::read_points_csv;
+use crate::io::points_csv::read_points_csv;
 use crate::localise::icp::{register, IcpSettings};
 use crate::localise::metrics::pose_error;
 use crate::scene;

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::manifest::{FileEntry, Manifest, PoseEntry, Summary};
 use super::{flags, progress, CliError};
-use crate::dataset::{exr, json, output_dir, png16, profile_csv};
+use crate::io::{exr, json, output_dir, png16, profile_csv};
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::simulate_pose;
 use crate::scan::warnings::pose_warnings;

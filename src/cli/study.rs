@@ -11,7 +11,7 @@ use serde_json::{json, Value};
 
 use super::{flags, progress, CliError};
 use crate::dataset::scene_edit::SceneTemplate;
-use crate::dataset::{atomic::write_atomic, json as json_file, output_dir};
+use crate::io::{atomic::write_atomic, json as json_file, output_dir};
 use crate::plot::edge_scatter::EdgeScatter;
 use crate::plot::save;
 use crate::scene;

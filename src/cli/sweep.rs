@@ -10,7 +10,7 @@ use clap::Args;
 use serde_json::json;
 
 use super::{flags, progress, CliError};
-use crate::dataset::{atomic::write_atomic, json as json_file, output_dir};
+use crate::io::{atomic::write_atomic, json as json_file, output_dir};
 use crate::plot::heat_map::HeatMap;
 use crate::plot::save;
 use crate::scene;

@@ -17,12 +17,13 @@
 use std::fs;
 use std::path::Path;
 
-use super::atomic::write_atomic;
 use super::integrity::{check_sample, Damage};
 use super::manifest::{encode_line, for_each_line, repair_torn_tail, RunInfo, RUN_FILE};
 use super::sample_files::parse_sample_dir_name;
 use super::shard::Shard;
-use super::{json, DatasetError};
+use super::DatasetError;
+use crate::io::atomic::write_atomic;
+use crate::io::json;
 
 /// The samples of a shard that are already finished, as a bit set over 0..count.
 #[derive(Clone, Debug, Default)]
@@ -75,9 +76,10 @@ pub fn prepare_dataset_dir(
     match fs::metadata(dir) {
         Ok(m) if m.is_dir() => {}
         Ok(_) => {
-            return Err(DatasetError::OutputNotADirectory {
+            return Err(crate::io::FileError::OutputNotADirectory {
                 path: dir.to_path_buf(),
-            })
+            }
+            .into())
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             fs::create_dir_all(dir)
@@ -85,7 +87,7 @@ pub fn prepare_dataset_dir(
         }
         Err(e) => return Err(DatasetError::io(dir, "inspect the output directory", e)),
     }
-    super::output_dir::check_writable(dir)?;
+    crate::io::output_dir::check_writable(dir)?;
     let names = list(dir)?;
     if run_path.is_file() {
         let recorded: RunInfo = json::read_json(&run_path)?;

@@ -143,10 +143,11 @@ impl ManifestWriter {
     /// Appends `line` with one write and makes it durable: once this returns, the sample is
     /// finished.
     pub fn append(&mut self, line: &ManifestLine) -> Result<(), DatasetError> {
-        let mut text = serde_json::to_string(line).map_err(|source| DatasetError::JsonWrite {
-            path: self.path.clone(),
-            source,
-        })?;
+        let mut text =
+            serde_json::to_string(line).map_err(|source| crate::io::FileError::JsonWrite {
+                path: self.path.clone(),
+                source,
+            })?;
         text.push('\n');
         self.file
             .write_all(text.as_bytes())
@@ -233,7 +234,7 @@ pub fn sort_manifest(path: &Path) -> Result<bool, DatasetError> {
     // Pass 2: one reader per run, from its first line to the next run's.
     let ends = starts.iter().skip(1).copied().chain([usize::MAX]);
     let spans: Vec<(usize, usize)> = starts.iter().copied().zip(ends).collect();
-    super::atomic::write_atomic(path, |w| {
+    crate::io::atomic::write_atomic(path, |w| {
         let mut runs = spans
             .iter()
             .map(|&(first, end)| SortedRun::open(path, first, end))

@@ -19,11 +19,12 @@ use std::fs::{self, File};
 use std::io::{BufRead, BufReader, Lines};
 use std::path::{Path, PathBuf};
 
-use super::atomic::write_atomic;
 use super::integrity::check_sample;
 use super::manifest::{encode_line, for_each_line, parse_line, RunInfo, MANIFEST, RUN_FILE};
 use super::shard::Shard;
-use super::{json, DatasetError};
+use super::DatasetError;
+use crate::io::atomic::write_atomic;
+use crate::io::json;
 
 /// What a merge did.
 #[derive(Debug, serde::Serialize)]

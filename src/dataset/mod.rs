@@ -1,18 +1,5 @@
-//! Output files on disk. Each writer has a matching reader, used by the tests to prove that
-//! what is written reads back bit for bit (and by tools that post-process a dataset).
-//!
-//! - `png16`: sensor images in digital numbers (DN), 16-bit greyscale PNG.
-//! - `exr`: radiometric images (irradiance in W/m², one f32 layer per light-path class),
-//!   single-part scanline OpenEXR.
-//! - `profile_csv`: line profiles (column, sub-pixel row, x and z in mm, intensity in DN,
-//!   peak width in px, validity).
-//! - `json`: manifests and configurations.
-//! - `points_csv`: named-column CSV tables (BIPs) and the x_mm, y_mm, z_mm reader.
-//! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
-//! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
-//!
-//! Synthetic datasets (`glassscan dataset`, `merge`, `verify`, `score`), built on the writers
-//! above and on `scene` and `scan`:
+//! Synthetic datasets (`glassscan dataset`, `merge`, `verify`, `score`), built on the file
+//! formats of `io` and on `scene` and `scan`:
 //! - `randomize` (the `--randomize` ranges and the per-sample draws), `scene_edit` (a scene
 //!   file edited with the draws and loaded again), `ideal_profile` (the exact cross-section
 //!   the laser plane cuts), `sample` (one sample end to end), `sample_files` (its directory);
@@ -24,28 +11,17 @@
 //!   its manifests), `score` (a user's BIPs against the ground truth).
 //!
 //! Invariants:
-//! - Only `scene` (reading inputs) and `dataset` (writing outputs) touch the file system.
-//! - Every file is written atomically (temporary file in the same directory, `sync_all`,
-//!   `rename`): a reader sees the old file or the complete new one, never a torn file.
-//! - Images are row-major with row 0 at the top, in memory and in every file format.
-//! - Readers never convert: a file of another bit depth, sample type or header is an error.
-//! - Every error names the file, and the line and column where there is one.
+//! - A sample's files are written through `io` (atomically) and recorded in its manifest line
+//!   (size and SHA-256) only after all of them are complete, so a finished sample is one whose
+//!   manifest line exists and whose files match it.
 
-pub mod atomic;
 pub mod dataset_dir;
 pub mod error;
-pub mod exr;
 pub mod generate;
 pub mod ideal_profile;
 pub mod integrity;
-pub mod json;
 pub mod manifest;
 pub mod merge;
-pub mod output_dir;
-pub mod ply;
-pub mod png16;
-pub mod points_csv;
-pub mod profile_csv;
 pub mod randomize;
 pub mod sample;
 pub mod sample_files;

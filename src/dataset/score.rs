@@ -13,8 +13,8 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::manifest::{for_each_line, MANIFEST};
-use super::points_csv::named_rows;
 use super::DatasetError;
+use crate::io::points_csv::named_rows;
 use crate::localise::metrics::Stats;
 
 /// The columns a BIPs CSV must have.
@@ -36,7 +36,7 @@ pub fn read_bips_csv(path: &Path) -> Result<Vec<BipRow>, DatasetError> {
     let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
     let mut rows = Vec::new();
     for row in named_rows(path, &text, &REQUIRED)? {
-        let bad = |k: usize, message: String| DatasetError::CsvField {
+        let bad = |k: usize, message: String| crate::io::FileError::CsvField {
             path: path.to_path_buf(),
             line: row.line,
             column: REQUIRED[k].to_owned(),
@@ -108,11 +108,14 @@ pub fn score(dataset: &Path, bips: &Path) -> Result<ScoreReport, DatasetError> {
     })?;
     let mut by_sample: BTreeMap<u64, BipRow> = BTreeMap::new();
     for row in rows {
-        let bad = |message: String| DatasetError::CsvField {
-            path: bips.to_path_buf(),
-            line: row.line,
-            column: "sample".into(),
-            message,
+        let bad = |message: String| -> DatasetError {
+            crate::io::FileError::CsvField {
+                path: bips.to_path_buf(),
+                line: row.line,
+                column: "sample".into(),
+                message,
+            }
+            .into()
         };
         if !truth.contains_key(&row.sample) {
             return Err(bad(format!(

@@ -13,7 +13,8 @@ use serde::Serialize;
 use super::integrity::check_sample;
 use super::manifest::{for_each_line, RunInfo, MANIFEST, RUN_FILE};
 use super::shard::Shard;
-use super::{json, DatasetError};
+use super::DatasetError;
+use crate::io::json;
 
 /// How many missing sample indices a report lists (it counts them all).
 const LISTED_MISSING: usize = 20;

@@ -10,7 +10,7 @@ use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::DatasetError;
+use super::FileError;
 
 /// Distinguishes temporaries made by different threads of this process for the same target.
 static NEXT_TEMP_ID: AtomicU64 = AtomicU64::new(0);
@@ -28,18 +28,18 @@ const MAX_TEMP_ATTEMPTS: u32 = 16;
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-) -> Result<(), DatasetError> {
+) -> Result<(), FileError> {
     let (mut temp, file) = TempFile::create(path)?;
     let mut writer = BufWriter::new(file);
-    write(&mut writer).map_err(|e| DatasetError::io(path, "write", e))?;
+    write(&mut writer).map_err(|e| FileError::io(path, "write", e))?;
     let file = writer
         .into_inner()
-        .map_err(|e| DatasetError::io(path, "write", e.into_error()))?;
+        .map_err(|e| FileError::io(path, "write", e.into_error()))?;
     file.sync_all()
-        .map_err(|e| DatasetError::io(path, "sync", e))?;
+        .map_err(|e| FileError::io(path, "sync", e))?;
     drop(file);
     fs::rename(&temp.path, path)
-        .map_err(|e| DatasetError::io(path, "rename the temporary file onto", e))?;
+        .map_err(|e| FileError::io(path, "rename the temporary file onto", e))?;
     temp.renamed = true;
     Ok(())
 }
@@ -51,12 +51,10 @@ struct TempFile {
 }
 
 impl TempFile {
-    fn create(target: &Path) -> Result<(TempFile, File), DatasetError> {
-        let name = target
-            .file_name()
-            .ok_or_else(|| DatasetError::NotAFilePath {
-                path: target.to_path_buf(),
-            })?;
+    fn create(target: &Path) -> Result<(TempFile, File), FileError> {
+        let name = target.file_name().ok_or_else(|| FileError::NotAFilePath {
+            path: target.to_path_buf(),
+        })?;
         let mut attempt = 0;
         loop {
             let id = NEXT_TEMP_ID.fetch_add(1, Ordering::Relaxed);
@@ -83,13 +81,7 @@ impl TempFile {
                 {
                     attempt += 1;
                 }
-                Err(e) => {
-                    return Err(DatasetError::io(
-                        target,
-                        "create a temporary file next to",
-                        e,
-                    ))
-                }
+                Err(e) => return Err(FileError::io(target, "create a temporary file next to", e)),
             }
         }
     }
@@ -142,7 +134,7 @@ mod tests {
         .unwrap_err();
         assert!(matches!(
             err,
-            DatasetError::Io {
+            FileError::Io {
                 action: "write",
                 ..
             }
@@ -189,7 +181,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("missing").join("a.txt");
         let err = write_atomic(&path, |w| w.write_all(b"x")).unwrap_err();
-        assert!(matches!(err, DatasetError::Io { .. }));
+        assert!(matches!(err, FileError::Io { .. }));
         assert!(err.to_string().contains("missing"), "{err}");
     }
 
@@ -198,6 +190,6 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("..");
         let err = write_atomic(&path, |w| w.write_all(b"x")).unwrap_err();
-        assert!(matches!(err, DatasetError::NotAFilePath { .. }), "{err}");
+        assert!(matches!(err, FileError::NotAFilePath { .. }), "{err}");
     }
 }

@@ -19,7 +19,7 @@ use exr::prelude::{
 
 use super::atomic::write_atomic;
 use super::error::check_image_size;
-use super::DatasetError;
+use super::FileError;
 use crate::sensor::image::Image;
 use crate::sensor::path_class::PathClass;
 use crate::transport::Irradiance;
@@ -42,8 +42,8 @@ pub fn write_exr_layers(
     width: usize,
     height: usize,
     layers: &[(&str, &[f32])],
-) -> Result<(), DatasetError> {
-    let layout_error = |expected: &str, found: String| DatasetError::ExrLayout {
+) -> Result<(), FileError> {
+    let layout_error = |expected: &str, found: String| FileError::ExrLayout {
         path: path.to_path_buf(),
         expected: expected.to_string(),
         found,
@@ -83,7 +83,7 @@ pub fn write_exr_layers(
     exr::prelude::Image::from_layer(layer)
         .write()
         .to_buffered(&mut encoded)
-        .map_err(|source| DatasetError::Exr {
+        .map_err(|source| FileError::Exr {
             path: path.to_path_buf(),
             expected: "layers the OpenEXR encoder accepts",
             source,
@@ -94,7 +94,7 @@ pub fn write_exr_layers(
 
 /// Writes a pose's irradiance (W/m²) as f32 layers: `irradiance` (the total) and
 /// `class.<path class>` for each path class.
-pub fn write_irradiance_exr(path: &Path, irradiance: &Irradiance) -> Result<(), DatasetError> {
+pub fn write_irradiance_exr(path: &Path, irradiance: &Irradiance) -> Result<(), FileError> {
     let to_f32 = |img: &Image<f64>| -> Vec<f32> { img.data.iter().map(|&v| v as f32).collect() };
     let total = to_f32(&irradiance.total);
     let classes: Vec<(String, Vec<f32>)> = PathClass::ALL
@@ -118,9 +118,9 @@ pub fn write_irradiance_exr(path: &Path, irradiance: &Irradiance) -> Result<(), 
 
 /// Reads every channel of a single-part EXR as an f32 layer, in the file's (alphabetical)
 /// channel order. Channels stored as f16 or u32, subsampled channels and multi-part files are
-/// refused with [`DatasetError::ExrLayout`], never converted.
-pub fn read_exr_layers(path: &Path) -> Result<Vec<(String, Image<f32>)>, DatasetError> {
-    let file = File::open(path).map_err(|e| DatasetError::io(path, "open", e))?;
+/// refused with [`FileError::ExrLayout`], never converted.
+pub fn read_exr_layers(path: &Path) -> Result<Vec<(String, Image<f32>)>, FileError> {
+    let file = File::open(path).map_err(|e| FileError::io(path, "open", e))?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -128,12 +128,12 @@ pub fn read_exr_layers(path: &Path) -> Result<Vec<(String, Image<f32>)>, Dataset
         .all_layers()
         .all_attributes()
         .from_buffered(BufReader::new(file))
-        .map_err(|source| DatasetError::Exr {
+        .map_err(|source| FileError::Exr {
             path: path.to_path_buf(),
             expected: "a valid OpenEXR file",
             source,
         })?;
-    let layout_error = |expected: String, found: String| DatasetError::ExrLayout {
+    let layout_error = |expected: String, found: String| FileError::ExrLayout {
         path: path.to_path_buf(),
         expected,
         found,
@@ -272,7 +272,7 @@ mod tests {
         .unwrap_err();
         assert!(matches!(
             err,
-            DatasetError::SampleCount {
+            FileError::SampleCount {
                 expected: 15,
                 found: 14,
                 ..
@@ -290,7 +290,7 @@ mod tests {
         let none: &[(&str, &[f32])] = &[];
         for list in [none, &[("x", &a), ("x", &b)], &[("", &a)], &[("λ", &a)]] {
             let err = write_exr_layers(&path, WIDTH, HEIGHT, list).unwrap_err();
-            assert!(matches!(err, DatasetError::ExrLayout { .. }), "{err}");
+            assert!(matches!(err, FileError::ExrLayout { .. }), "{err}");
         }
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }

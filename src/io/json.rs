@@ -14,29 +14,25 @@ use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 use super::atomic::write_atomic;
-use super::DatasetError;
+use super::FileError;
 
 /// Writes `value` as pretty-printed JSON (two-space indent, trailing newline) at `path`,
 /// atomically.
-pub fn write_json_pretty<T: Serialize + ?Sized>(
-    path: &Path,
-    value: &T,
-) -> Result<(), DatasetError> {
+pub fn write_json_pretty<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), FileError> {
     // Serialising to memory first means a serialisation error never leaves a temporary behind.
-    let mut encoded =
-        serde_json::to_vec_pretty(value).map_err(|source| DatasetError::JsonWrite {
-            path: path.to_path_buf(),
-            source,
-        })?;
+    let mut encoded = serde_json::to_vec_pretty(value).map_err(|source| FileError::JsonWrite {
+        path: path.to_path_buf(),
+        source,
+    })?;
     encoded.push(b'\n');
     write_atomic(path, |w| w.write_all(&encoded))
 }
 
 /// Reads a JSON file into a `T`. Malformed JSON and JSON of another shape are reported with the
 /// path, line and column.
-pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, DatasetError> {
-    let bytes = std::fs::read(path).map_err(|e| DatasetError::io(path, "read", e))?;
-    serde_json::from_slice(&bytes).map_err(|source| DatasetError::JsonRead {
+pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, FileError> {
+    let bytes = std::fs::read(path).map_err(|e| FileError::io(path, "read", e))?;
+    serde_json::from_slice(&bytes).map_err(|source| FileError::JsonRead {
         path: path.to_path_buf(),
         source,
     })
@@ -106,7 +102,7 @@ mod tests {
         let path = dir.path().join("manifest.json");
         std::fs::write(&path, "{\n  \"name\": 3\n}\n").unwrap();
         let err = read_json::<Manifest>(&path).unwrap_err();
-        assert!(matches!(err, DatasetError::JsonRead { .. }), "{err}");
+        assert!(matches!(err, FileError::JsonRead { .. }), "{err}");
         let message = err.to_string();
         assert!(
             message.contains("manifest.json") && message.contains("line 2"),
@@ -121,7 +117,7 @@ mod tests {
         // JSON object keys must be strings; a tuple key cannot be serialised.
         let value = BTreeMap::from([((1, 2), 3)]);
         let err = write_json_pretty(&path, &value).unwrap_err();
-        assert!(matches!(err, DatasetError::JsonWrite { .. }), "{err}");
+        assert!(matches!(err, FileError::JsonWrite { .. }), "{err}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

@@ -4,50 +4,50 @@
 use std::io;
 use std::path::Path;
 
-use super::DatasetError;
+use super::FileError;
 
 /// Makes `dir` ready to receive output files, before any work starts.
 ///
 /// - Missing: it is created, with its parents.
 /// - Existing and empty: accepted.
-/// - Existing and not empty: refused with [`DatasetError::OutputNotEmpty`] unless `force`.
+/// - Existing and not empty: refused with [`FileError::OutputNotEmpty`] unless `force`.
 ///   With `force` nothing is deleted now; each output file is later replaced atomically, one
 ///   by one, and the command removes the files of its kind that the new run did not write
 ///   ([`remove_stale`]).
 /// - Existing but not a directory: refused, with or without `force`.
-/// - Not writable (read-only, no permission): refused with [`DatasetError::OutputNotWritable`]:
+/// - Not writable (read-only, no permission): refused with [`FileError::OutputNotWritable`]:
 ///   a file is created in it and removed again, so the answer is the file system's own.
-pub fn prepare_output_dir(dir: &Path, force: bool) -> Result<(), DatasetError> {
+pub fn prepare_output_dir(dir: &Path, force: bool) -> Result<(), FileError> {
     match std::fs::metadata(dir) {
         Ok(meta) if meta.is_dir() => {
             if !force && !is_empty_dir(dir)? {
-                return Err(DatasetError::OutputNotEmpty {
+                return Err(FileError::OutputNotEmpty {
                     path: dir.to_path_buf(),
                 });
             }
         }
         Ok(_) => {
-            return Err(DatasetError::OutputNotADirectory {
+            return Err(FileError::OutputNotADirectory {
                 path: dir.to_path_buf(),
             })
         }
         Err(e) if e.kind() == io::ErrorKind::NotFound => std::fs::create_dir_all(dir)
-            .map_err(|e| DatasetError::io(dir, "create the output directory", e))?,
-        Err(e) => return Err(DatasetError::io(dir, "inspect the output directory", e)),
+            .map_err(|e| FileError::io(dir, "create the output directory", e))?,
+        Err(e) => return Err(FileError::io(dir, "inspect the output directory", e)),
     }
     check_writable(dir)
 }
 
 /// Refuses a directory in which a file cannot be created.
-pub fn check_writable(dir: &Path) -> Result<(), DatasetError> {
+pub fn check_writable(dir: &Path) -> Result<(), FileError> {
     let probe = dir.join(format!(".glassscan-write-probe-{}", std::process::id()));
     match std::fs::File::create(&probe) {
         Ok(file) => {
             drop(file);
             std::fs::remove_file(&probe)
-                .map_err(|e| DatasetError::io(&probe, "remove the write probe", e))
+                .map_err(|e| FileError::io(&probe, "remove the write probe", e))
         }
-        Err(source) => Err(DatasetError::OutputNotWritable {
+        Err(source) => Err(FileError::OutputNotWritable {
             path: dir.to_path_buf(),
             source,
         }),
@@ -61,16 +61,16 @@ pub fn remove_stale(
     dir: &Path,
     is_output: impl Fn(&str) -> bool,
     written: &std::collections::BTreeSet<String>,
-) -> Result<Vec<String>, DatasetError> {
+) -> Result<Vec<String>, FileError> {
     let mut removed = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(|e| DatasetError::io(dir, "list", e))? {
-        let entry = entry.map_err(|e| DatasetError::io(dir, "list", e))?;
+    for entry in std::fs::read_dir(dir).map_err(|e| FileError::io(dir, "list", e))? {
+        let entry = entry.map_err(|e| FileError::io(dir, "list", e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
         let is_file = entry.file_type().is_ok_and(|t| t.is_file());
         if is_file && is_output(&name) && !written.contains(&name) {
             let path = entry.path();
             std::fs::remove_file(&path)
-                .map_err(|e| DatasetError::io(&path, "remove the earlier run's file", e))?;
+                .map_err(|e| FileError::io(&path, "remove the earlier run's file", e))?;
             removed.push(name);
         }
     }
@@ -78,13 +78,13 @@ pub fn remove_stale(
     Ok(removed)
 }
 
-fn is_empty_dir(dir: &Path) -> Result<bool, DatasetError> {
-    let mut entries = std::fs::read_dir(dir)
-        .map_err(|e| DatasetError::io(dir, "list the output directory", e))?;
+fn is_empty_dir(dir: &Path) -> Result<bool, FileError> {
+    let mut entries =
+        std::fs::read_dir(dir).map_err(|e| FileError::io(dir, "list the output directory", e))?;
     match entries.next() {
         None => Ok(true),
         Some(Ok(_)) => Ok(false),
-        Some(Err(e)) => Err(DatasetError::io(dir, "list the output directory", e)),
+        Some(Err(e)) => Err(FileError::io(dir, "list the output directory", e)),
     }
 }
 
@@ -131,7 +131,7 @@ mod tests {
         let old = root.path().join("profile.csv");
         fs::write(&old, "old run").unwrap();
         let err = prepare_output_dir(root.path(), false).unwrap_err();
-        assert!(matches!(err, DatasetError::OutputNotEmpty { .. }), "{err}");
+        assert!(matches!(err, FileError::OutputNotEmpty { .. }), "{err}");
         let message = err.to_string();
         assert!(
             message.contains(&root.path().display().to_string())
@@ -151,7 +151,7 @@ mod tests {
         for force in [false, true] {
             let err = prepare_output_dir(&file, force).unwrap_err();
             assert!(
-                matches!(err, DatasetError::OutputNotADirectory { .. }),
+                matches!(err, FileError::OutputNotADirectory { .. }),
                 "{err}"
             );
         }

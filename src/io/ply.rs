@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use super::atomic::write_atomic;
-use super::DatasetError;
+use super::FileError;
 
 /// A point cloud: positions, optional per-point colours, and header comments.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -31,10 +31,10 @@ impl PointCloud {
 }
 
 /// Writes `cloud` at `path` (atomically). Colours must be absent or one per point.
-pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<(), DatasetError> {
+pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<(), FileError> {
     let colored = !cloud.colors.is_empty();
     if colored && cloud.colors.len() != cloud.points.len() {
-        return Err(DatasetError::PlyLayout {
+        return Err(FileError::PlyLayout {
             path: path.to_path_buf(),
             line: 0,
             expected: format!("{} colours (one per point)", cloud.points.len()),
@@ -69,9 +69,9 @@ pub fn write_ply(path: &Path, cloud: &PointCloud) -> Result<(), DatasetError> {
 
 /// Reads an ASCII PLY written by [`write_ply`] (vertex element with x, y, z and optionally
 /// red, green, blue; nothing else).
-pub fn read_ply(path: &Path) -> Result<PointCloud, DatasetError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
-    let bad = |line: usize, expected: &str, found: &str| DatasetError::PlyLayout {
+pub fn read_ply(path: &Path) -> Result<PointCloud, FileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| FileError::io(path, "read", e))?;
+    let bad = |line: usize, expected: &str, found: &str| FileError::PlyLayout {
         path: path.to_path_buf(),
         line,
         expected: expected.to_string(),

@@ -12,11 +12,11 @@ use image::{ColorType, ExtendedColorType, ImageDecoder, ImageEncoder, ImageError
 
 use super::atomic::write_atomic;
 use super::error::check_image_size;
-use super::DatasetError;
+use super::FileError;
 use crate::sensor::image::Image;
 
 /// Writes `img` as a 16-bit greyscale PNG at `path`, atomically.
-pub fn write_png16(path: &Path, img: &Image<u16>) -> Result<(), DatasetError> {
+pub fn write_png16(path: &Path, img: &Image<u16>) -> Result<(), FileError> {
     check_image_size(
         path,
         || "image".to_string(),
@@ -24,7 +24,7 @@ pub fn write_png16(path: &Path, img: &Image<u16>) -> Result<(), DatasetError> {
         img.height,
         img.data.len(),
     )?;
-    let png_error = |source| DatasetError::Png {
+    let png_error = |source| FileError::Png {
         path: path.to_path_buf(),
         expected: "an image the PNG encoder accepts",
         source,
@@ -49,11 +49,7 @@ pub fn write_png16(path: &Path, img: &Image<u16>) -> Result<(), DatasetError> {
 
 /// Writes a sensor image of `adc_bits`-bit digital numbers left-aligned in 16 bits (DN <<
 /// (16 − adc_bits)), as the SDK's container mode does (PARAMETERS.md §1b).
-pub fn write_sensor_png16(
-    path: &Path,
-    img: &Image<u16>,
-    adc_bits: u32,
-) -> Result<(), DatasetError> {
+pub fn write_sensor_png16(path: &Path, img: &Image<u16>, adc_bits: u32) -> Result<(), FileError> {
     let shift = 16u32.saturating_sub(adc_bits);
     let shifted = Image {
         width: img.width,
@@ -64,10 +60,10 @@ pub fn write_sensor_png16(
 }
 
 /// Reads a 16-bit greyscale PNG written by [`write_png16`] (or any other L16 PNG). Any other
-/// colour type or bit depth is refused with [`DatasetError::PngFormat`], never converted.
-pub fn read_png16(path: &Path) -> Result<Image<u16>, DatasetError> {
-    let file = File::open(path).map_err(|e| DatasetError::io(path, "open", e))?;
-    let png_error = |source| DatasetError::Png {
+/// colour type or bit depth is refused with [`FileError::PngFormat`], never converted.
+pub fn read_png16(path: &Path) -> Result<Image<u16>, FileError> {
+    let file = File::open(path).map_err(|e| FileError::io(path, "open", e))?;
+    let png_error = |source| FileError::Png {
         path: path.to_path_buf(),
         expected: "a valid PNG file",
         source,
@@ -77,7 +73,7 @@ pub fn read_png16(path: &Path) -> Result<Image<u16>, DatasetError> {
         PngDecoder::with_limits(BufReader::new(file), Limits::default()).map_err(png_error)?;
     let color_type = decoder.color_type();
     if color_type != ColorType::L16 {
-        return Err(DatasetError::PngFormat {
+        return Err(FileError::PngFormat {
             path: path.to_path_buf(),
             found: format!("{color_type:?}"),
         });
@@ -149,7 +145,7 @@ mod tests {
         let path = dir.path().join("eight.png");
         image::save_buffer(&path, &[0u8, 128, 255, 7], 2, 2, ExtendedColorType::L8).unwrap();
         let err = read_png16(&path).unwrap_err();
-        assert!(matches!(err, DatasetError::PngFormat { .. }), "{err}");
+        assert!(matches!(err, FileError::PngFormat { .. }), "{err}");
         let message = err.to_string();
         assert!(
             message.contains("eight.png") && message.contains("L8"),
@@ -163,7 +159,7 @@ mod tests {
         let path = dir.path().join("garbage.png");
         std::fs::write(&path, b"not a png at all").unwrap();
         let err = read_png16(&path).unwrap_err();
-        assert!(matches!(err, DatasetError::Png { .. }), "{err}");
+        assert!(matches!(err, FileError::Png { .. }), "{err}");
         assert!(err.to_string().contains("garbage.png"), "{err}");
     }
 
@@ -176,7 +172,7 @@ mod tests {
         let err = write_png16(&path, &img).unwrap_err();
         assert!(matches!(
             err,
-            DatasetError::SampleCount {
+            FileError::SampleCount {
                 expected: 35,
                 found: 34,
                 ..
@@ -184,7 +180,7 @@ mod tests {
         ));
         let empty = Image::<u16>::new(0, 3);
         let err = write_png16(&path, &empty).unwrap_err();
-        assert!(matches!(err, DatasetError::EmptyImage { .. }), "{err}");
+        assert!(matches!(err, FileError::EmptyImage { .. }), "{err}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

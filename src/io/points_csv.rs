@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use super::atomic::write_atomic;
-use super::DatasetError;
+use super::FileError;
 use crate::limits::MAX_LENGTH_MM;
 
 /// A table of named columns, written as CSV with Rust's shortest round-trip floats.
@@ -20,10 +20,10 @@ pub struct CsvTable {
 }
 
 /// Writes `table` at `path`, atomically. Every row must have one field per column.
-pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), DatasetError> {
+pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), FileError> {
     for (i, r) in table.rows.iter().enumerate() {
         if r.len() != table.columns.len() {
-            return Err(DatasetError::CsvFieldCount {
+            return Err(FileError::CsvFieldCount {
                 path: path.to_path_buf(),
                 line: i + 2,
                 expected: table.columns.len(),
@@ -57,7 +57,7 @@ pub fn named_rows<'a>(
     path: &Path,
     text: &'a str,
     columns: &[&'static str],
-) -> Result<Vec<NamedRow<'a>>, DatasetError> {
+) -> Result<Vec<NamedRow<'a>>, FileError> {
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let header = lines.next().map_or("", |(_, l)| l);
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
@@ -67,7 +67,7 @@ pub fn named_rows<'a>(
             names
                 .iter()
                 .position(|n| *n == column)
-                .ok_or_else(|| DatasetError::CsvMissingColumn {
+                .ok_or_else(|| FileError::CsvMissingColumn {
                     path: path.to_path_buf(),
                     column,
                     required: columns.join(","),
@@ -82,7 +82,7 @@ pub fn named_rows<'a>(
         }
         let f: Vec<&str> = text.split(',').map(str::trim).collect();
         if f.len() != names.len() {
-            return Err(DatasetError::CsvFieldCount {
+            return Err(FileError::CsvFieldCount {
                 path: path.to_path_buf(),
                 line,
                 expected: names.len(),
@@ -99,13 +99,13 @@ pub fn named_rows<'a>(
 
 /// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm, each within
 /// [`crate::limits::MAX_LENGTH_MM`]); rows with all three empty are skipped. Returns the points with their 1-based line numbers.
-pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, FileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| FileError::io(path, "read", e))?;
     parse_points_csv(path, &text)
 }
 
 /// [`read_points_csv`] of a file's text already in memory (`path` names it in messages).
-pub fn parse_points_csv(path: &Path, text: &str) -> Result<Vec<(usize, [f64; 3])>, DatasetError> {
+pub fn parse_points_csv(path: &Path, text: &str) -> Result<Vec<(usize, [f64; 3])>, FileError> {
     const COLUMNS: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
     let mut points = Vec::new();
     for row in named_rows(path, text, &COLUMNS)? {
@@ -118,7 +118,7 @@ pub fn parse_points_csv(path: &Path, text: &str) -> Result<Vec<(usize, [f64; 3])
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite() && v.abs() <= MAX_LENGTH_MM)
-                .ok_or_else(|| DatasetError::CsvValue {
+                .ok_or_else(|| FileError::CsvValue {
                     path: path.to_path_buf(),
                     line: row.line,
                     column,

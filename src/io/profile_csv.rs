@@ -15,7 +15,7 @@ use std::path::Path;
 use std::str::FromStr;
 
 use super::atomic::write_atomic;
-use super::DatasetError;
+use super::FileError;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::profile::{Profile, ProfilePoint, MAX_PEAKS};
 
@@ -40,7 +40,7 @@ const COLUMNS: [&str; 12] = [
 ];
 
 /// Writes `profile` to `path` as CSV, atomically.
-pub fn write_profile_csv(path: &Path, profile: &Profile) -> Result<(), DatasetError> {
+pub fn write_profile_csv(path: &Path, profile: &Profile) -> Result<(), FileError> {
     write_atomic(path, |w| {
         writeln!(w, "{HEADER}")?;
         for p in &profile.points {
@@ -80,17 +80,17 @@ impl fmt::Display for CsvLine<'_> {
 /// Reads a profile written by [`write_profile_csv`]. The header must match [`HEADER`] exactly;
 /// a line with a missing field or a value that does not parse is reported with its file, line
 /// number and column name. `\r\n` line endings are accepted.
-pub fn read_profile_csv(path: &Path) -> Result<Profile, DatasetError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+pub fn read_profile_csv(path: &Path) -> Result<Profile, FileError> {
+    let text = std::fs::read_to_string(path).map_err(|e| FileError::io(path, "read", e))?;
     parse_profile_csv(path, &text)
 }
 
 /// [`read_profile_csv`] of a file's text already in memory (`path` names it in messages).
-pub fn parse_profile_csv(path: &Path, text: &str) -> Result<Profile, DatasetError> {
+pub fn parse_profile_csv(path: &Path, text: &str) -> Result<Profile, FileError> {
     let mut lines = text.lines();
     let header = lines.next().unwrap_or("");
     if header != HEADER {
-        return Err(DatasetError::CsvHeader {
+        return Err(FileError::CsvHeader {
             path: path.to_path_buf(),
             expected: HEADER,
             found: header.to_string(),
@@ -104,17 +104,17 @@ pub fn parse_profile_csv(path: &Path, text: &str) -> Result<Profile, DatasetErro
     Ok(Profile { points })
 }
 
-fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoint, DatasetError> {
+fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoint, FileError> {
     let fields: Vec<&str> = line.split(',').collect();
     let Ok(fields) = <[&str; COLUMNS.len()]>::try_from(fields.as_slice()) else {
-        return Err(DatasetError::CsvFieldCount {
+        return Err(FileError::CsvFieldCount {
             path: path.to_path_buf(),
             line: line_number,
             expected: COLUMNS.len(),
             found: fields.len(),
         });
     };
-    let error = |index: usize, expected: &'static str| DatasetError::CsvValue {
+    let error = |index: usize, expected: &'static str| FileError::CsvValue {
         path: path.to_path_buf(),
         line: line_number,
         column: COLUMNS[index],
@@ -168,8 +168,8 @@ fn parse_field<T: FromStr>(
     fields: &[&str],
     index: usize,
     expected: &'static str,
-    error: &impl Fn(usize, &'static str) -> DatasetError,
-) -> Result<T, DatasetError> {
+    error: &impl Fn(usize, &'static str) -> FileError,
+) -> Result<T, FileError> {
     fields[index].parse().map_err(|_| error(index, expected))
 }
 
@@ -333,7 +333,7 @@ mod tests {
         assert!(
             matches!(
                 err,
-                DatasetError::CsvFieldCount {
+                FileError::CsvFieldCount {
                     line: 3,
                     expected: 12,
                     found: 4,
@@ -392,7 +392,7 @@ mod tests {
         ] {
             let (_dir, path) = write_text(text);
             let err = read_profile_csv(&path).unwrap_err();
-            assert!(matches!(err, DatasetError::CsvHeader { .. }), "{err}");
+            assert!(matches!(err, FileError::CsvHeader { .. }), "{err}");
             assert!(
                 err.to_string().contains("profile.csv:1: expected header"),
                 "{err}"

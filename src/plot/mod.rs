@@ -2,7 +2,7 @@
 //!
 //! Every figure is drawn once per backend by the same code (`Figure::draw`, generic over the
 //! plotters backend): into an in-memory RGB buffer that is encoded as PNG, and into an SVG
-//! string. Files are then written atomically (`dataset::atomic`), so a reader never sees half a
+//! string. Files are then written atomically (`io::atomic`), so a reader never sees half a
 //! plot. Text uses DejaVu Sans, embedded in the binary (`assets/fonts/`, licence beside it) and
 //! registered once: plotters' `ab_glyph` text needs a font from bytes, and the tool must not
 //! depend on the fonts installed on the machine.
@@ -21,8 +21,8 @@ use image::ImageEncoder;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::dataset::atomic::write_atomic;
-use crate::dataset::DatasetError;
+use crate::io::atomic::write_atomic;
+use crate::io::FileError;
 
 /// DejaVu Sans (Bitstream Vera licence, see assets/fonts/LICENSE-DejaVu.txt).
 static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
@@ -56,7 +56,7 @@ pub enum PlotError {
     Encode(String),
     /// Writing a file failed.
     #[error(transparent)]
-    Write(#[from] DatasetError),
+    Write(#[from] FileError),
 }
 
 impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
