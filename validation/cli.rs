@@ -452,6 +452,24 @@ fn locate_out_files_feed_register_which_gives_the_same_pose() {
             assert!((a[k].as_f64().unwrap() - b[k].as_f64().unwrap()).abs() < 1e-9);
         }
     }
+    // The same BIPs as Excel saves them in a decimal-comma locale (byte-order mark, `;`,
+    // decimal commas, CRLF) give the same estimate bit for bit.
+    let text = std::fs::read_to_string(out.join("bips.csv")).unwrap();
+    let excel: String = text
+        .lines()
+        .map(|l| l.replace(',', ";").replace('.', ",") + "\r\n")
+        .collect();
+    let excel_path = tmp.path().join("bips_excel.csv");
+    std::fs::write(&excel_path, format!("\u{feff}{excel}")).unwrap();
+    let r2 = glassscan(&[
+        "register",
+        "scenes/flat_opaque.toml",
+        s(&excel_path),
+        "--json",
+    ]);
+    assert!(r2.status.success(), "{}", stderr(&r2));
+    let reg2: serde_json::Value = serde_json::from_slice(&r2.stdout).unwrap();
+    assert_eq!(reg2["estimate"], reg["estimate"]);
     // A non-empty --out is refused without --force, and nothing is lost.
     let before = std::fs::read(out.join("bips.csv")).unwrap();
     let o = glassscan(&["locate", "scenes/flat_opaque.toml", "--out", s(&out)]);

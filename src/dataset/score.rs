@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use super::manifest::{for_each_line, MANIFEST};
 use super::DatasetError;
-use crate::io::points_csv::named_rows;
+use crate::io::csv_read::CsvText;
 use crate::localise::metrics::Stats;
 
 /// The columns a BIPs CSV must have.
@@ -34,15 +34,18 @@ pub struct BipRow {
 /// Reads a BIPs CSV (see the module documentation). Errors name the file, line and column.
 pub fn read_bips_csv(path: &Path) -> Result<Vec<BipRow>, DatasetError> {
     let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+    let csv = CsvText::parse(path, &text)?;
+    let index = csv.column_indices(path, &REQUIRED)?;
     let mut rows = Vec::new();
-    for row in named_rows(path, &text, &REQUIRED)? {
+    for row in &csv.rows {
         let bad = |k: usize, message: String| crate::io::FileError::CsvField {
             path: path.to_path_buf(),
             line: row.line,
             column: REQUIRED[k].to_owned(),
             message,
         };
-        let field = row.fields[0];
+        let fields = index.map(|i| row.fields[i].as_str());
+        let field = fields[0];
         let sample = field.parse::<u64>().map_err(|_| {
             bad(
                 0,
@@ -51,10 +54,9 @@ pub fn read_bips_csv(path: &Path) -> Result<Vec<BipRow>, DatasetError> {
         })?;
         let mut point_mm = [0.0; 3];
         for (k, v) in point_mm.iter_mut().enumerate() {
-            let field = row.fields[k + 1];
-            *v = field
-                .parse::<f64>()
-                .ok()
+            let field = fields[k + 1];
+            *v = csv
+                .number(field)
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| bad(k + 1, format!("expected a finite number, got \"{field}\"")))?;
         }
@@ -213,7 +215,7 @@ mod tests {
             ("", "bips.csv:1: expected a header with the column `sample`"),
             (
                 "sample,x_mm,y_mm,z_mm\n1,2,3\n",
-                "bips.csv:2: expected 4 comma-separated fields, got 3",
+                "bips.csv:2: expected 4 fields separated by ',', got 3",
             ),
             (
                 "sample,x_mm,y_mm,z_mm\n1,2,3,4\n-1,2,3,4\n",

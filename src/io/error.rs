@@ -140,14 +140,14 @@ pub enum FileError {
         /// The file concerned.
         path: PathBuf,
         /// The header the reader understands.
-        expected: &'static str,
+        expected: String,
         /// The first line of the file (empty if the file is empty).
         found: String,
     },
 
     /// A CSV line with the wrong number of fields (typically a truncated file).
     #[error(
-        "{}:{line}: expected {expected} comma-separated fields, got {found}",
+        "{}:{line}: expected {expected} fields separated by '{delimiter}', got {found}",
         path.display()
     )]
     CsvFieldCount {
@@ -159,6 +159,19 @@ pub enum FileError {
         expected: usize,
         /// Number of fields on this line.
         found: usize,
+        /// The field separator the reader found in the header (or the writer uses).
+        delimiter: char,
+    },
+
+    /// Text the CSV reader cannot split into records.
+    #[error("{}:{line}: not readable as CSV: {message}", path.display())]
+    CsvSyntax {
+        /// The file concerned.
+        path: PathBuf,
+        /// 1-based line number, 0 when the reader could not tell.
+        line: usize,
+        /// The CSV reader's message.
+        message: String,
     },
 
     /// A CSV field that does not parse as its column's type.

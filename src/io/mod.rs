@@ -8,7 +8,8 @@
 //! - `profile_csv`: line profiles (column, sub-pixel row, x and z in mm, intensity in DN,
 //!   peak width in px, validity).
 //! - `json`: manifests and configurations.
-//! - `points_csv`: named-column CSV tables (BIPs) and the x_mm, y_mm, z_mm reader.
+//! - `points_csv`: named-column CSV tables (BIPs) and the x_mm, y_mm, z_mm reader;
+//!   `csv_read`: every CSV read (the `csv` crate; separator sniffed, BOM, quotes).
 //! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
@@ -22,6 +23,7 @@
 //! - Every error names the file, and the line and column where there is one.
 
 pub mod atomic;
+pub mod csv_read;
 pub mod error;
 pub mod exr;
 pub mod json;

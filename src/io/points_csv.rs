@@ -1,12 +1,15 @@
 //! Points as CSV with a header that names the columns: BIPs written by `glassscan locate --out`
 //! and the user's own points read by `glassscan register`. The reader finds `x_mm`, `y_mm` and
 //! `z_mm` by name (other columns, in any order, are ignored), so a spreadsheet's export works.
-//! A row whose three coordinates are all empty (a pose without a BIP) is skipped; anything
-//! else that is not a finite number is an error naming the file, line and column.
+//! The file may be comma-, semicolon- or tab-separated, quoted, with a byte-order mark (see
+//! `csv_read`). A row whose three coordinates are all missing (empty, `NA` or `NaN`: a pose
+//! without a BIP) is skipped; anything else that is not a finite number is an error naming the
+//! file, line and column.
 
 use std::path::Path;
 
 use super::atomic::write_atomic;
+use super::csv_read::CsvText;
 use super::FileError;
 use crate::limits::MAX_LENGTH_MM;
 
@@ -28,6 +31,7 @@ pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), FileError> {
                 line: i + 2,
                 expected: table.columns.len(),
                 found: r.len(),
+                delimiter: ',',
             });
         }
     }
@@ -40,63 +44,6 @@ pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), FileError> {
     })
 }
 
-/// One data row of a CSV read by column names: its 1-based line number and the trimmed fields
-/// of the requested columns, in the order they were requested.
-#[derive(Clone, Debug, PartialEq)]
-pub struct NamedRow<'a> {
-    /// 1-based line number (the header is line 1).
-    pub line: usize,
-    /// The requested columns' fields.
-    pub fields: Vec<&'a str>,
-}
-
-/// The rows of a CSV text whose header names `columns` (in any order, among others), blank
-/// lines skipped. A missing column or a row with another number of fields than the header is
-/// an error naming `path` and the line.
-pub fn named_rows<'a>(
-    path: &Path,
-    text: &'a str,
-    columns: &[&'static str],
-) -> Result<Vec<NamedRow<'a>>, FileError> {
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
-    let header = lines.next().map_or("", |(_, l)| l);
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let index = columns
-        .iter()
-        .map(|&column| {
-            names
-                .iter()
-                .position(|n| *n == column)
-                .ok_or_else(|| FileError::CsvMissingColumn {
-                    path: path.to_path_buf(),
-                    column,
-                    required: columns.join(","),
-                    found: header.to_string(),
-                })
-        })
-        .collect::<Result<Vec<usize>, _>>()?;
-    let mut rows = Vec::new();
-    for (line, text) in lines {
-        if text.trim().is_empty() {
-            continue;
-        }
-        let f: Vec<&str> = text.split(',').map(str::trim).collect();
-        if f.len() != names.len() {
-            return Err(FileError::CsvFieldCount {
-                path: path.to_path_buf(),
-                line,
-                expected: names.len(),
-                found: f.len(),
-            });
-        }
-        rows.push(NamedRow {
-            line,
-            fields: index.iter().map(|&i| f[i]).collect(),
-        });
-    }
-    Ok(rows)
-}
-
 /// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm, each within
 /// [`crate::limits::MAX_LENGTH_MM`]); rows with all three empty are skipped. Returns the points with their 1-based line numbers.
 pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, FileError> {
@@ -107,28 +54,36 @@ pub fn read_points_csv(path: &Path) -> Result<Vec<(usize, [f64; 3])>, FileError>
 /// [`read_points_csv`] of a file's text already in memory (`path` names it in messages).
 pub fn parse_points_csv(path: &Path, text: &str) -> Result<Vec<(usize, [f64; 3])>, FileError> {
     const COLUMNS: [&str; 3] = ["x_mm", "y_mm", "z_mm"];
+    let csv = CsvText::parse(path, text)?;
+    let index = csv.column_indices(path, &COLUMNS)?;
     let mut points = Vec::new();
-    for row in named_rows(path, text, &COLUMNS)? {
-        if row.fields.iter().all(|f| f.is_empty()) {
+    for row in &csv.rows {
+        let fields = index.map(|i| row.fields[i].as_str());
+        if fields.iter().all(|f| is_missing(f)) {
             continue;
         }
         let mut p = [0.0; 3];
         for (k, column) in COLUMNS.into_iter().enumerate() {
-            p[k] = row.fields[k]
-                .parse::<f64>()
-                .ok()
+            p[k] = csv
+                .number(fields[k])
                 .filter(|v| v.is_finite() && v.abs() <= MAX_LENGTH_MM)
                 .ok_or_else(|| FileError::CsvValue {
                     path: path.to_path_buf(),
                     line: row.line,
                     column,
                     expected: "a finite number of mm within ±1e5 (100 m)",
-                    found: row.fields[k].to_string(),
+                    found: fields[k].to_string(),
                 })?;
         }
         points.push((row.line, p));
     }
     Ok(points)
+}
+
+/// Whether a field says "no value" as the programs that write these files spell it: empty
+/// (glassscan, pandas), `NA` (R), `NaN` or `nan` (numpy, Rust).
+pub fn is_missing(field: &str) -> bool {
+    matches!(field, "" | "NA" | "NaN" | "nan")
 }
 
 #[cfg(test)]

@@ -1,85 +1,78 @@
 //! Line profiles as CSV, one point per line after the header
-//! `column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid`.
+//! `column,reflection,row_px,x_mm,z_mm,intensity_dn,width_px,threshold_dn,m0_dn,m1_dn_px,label,valid,saturated`.
 //!
-//! The fields are the firmware's per-peak record (PARAMETERS.md §1b: width, maximum intensity,
-//! threshold, x, z, M0, M1, and the reflection slot 0…3), plus the sub-pixel row and the path
-//! class `label` (`PathClass::name()`, empty when unknown). Points are in the profile's order:
-//! column order, then reflection index.
+//! The fields are the firmware's per-peak record (the scanCONTROL SDK's profile container:
+//! width, maximum intensity, threshold, x, z, M0, M1 in each of 4 reflection slots;
+//! `libmescan.c`, `convert_profile_2_values`), plus the sub-pixel row, the path class `label`
+//! (`PathClass::name()`, empty when unknown) and the `saturated` flag (the peak reaches the
+//! ADC's full scale). Points are in the profile's order: column order, then reflection index.
 //!
-//! Floats are written with Rust's `Display`, which prints the shortest decimal that parses back
-//! to the same f64, so a written profile reads back bit for bit. Invalid points carry `NaN` in
-//! `row`, `x_mm` and `z_mm`, and `0` in `valid` (`1` for valid points).
+//! One naming rule: every physical column ends in its unit (`_px`, `_mm`, `_dn`, `_dn_px` for
+//! DN·px); `column` and `reflection` are indices. Booleans are `true`/`false`. Floats are
+//! written with Rust's `Display`, which prints the shortest decimal that parses back to the same
+//! f64, so a written profile reads back bit for bit. Invalid points carry `NaN` in `row_px`,
+//! `x_mm` and `z_mm`, and `false` in `valid`. `pandas.read_csv` reads the file as it is (NaN,
+//! booleans and the empty label included).
 
-use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 
 use super::atomic::write_atomic;
+use super::csv_read::CsvText;
 use super::FileError;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::profile::{Profile, ProfilePoint, MAX_PEAKS};
 
-/// The header line, which is also the column order.
-pub const HEADER: &str =
-    "column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid";
-
-/// The column names of [`HEADER`], for error messages.
-const COLUMNS: [&str; 12] = [
+/// The column names, in file order.
+pub const COLUMNS: [&str; 13] = [
     "column",
     "reflection",
-    "row",
+    "row_px",
     "x_mm",
     "z_mm",
-    "intensity",
-    "width",
-    "threshold",
-    "m0",
-    "m1",
+    "intensity_dn",
+    "width_px",
+    "threshold_dn",
+    "m0_dn",
+    "m1_dn_px",
     "label",
     "valid",
+    "saturated",
 ];
 
 /// Writes `profile` to `path` as CSV, atomically.
 pub fn write_profile_csv(path: &Path, profile: &Profile) -> Result<(), FileError> {
     write_atomic(path, |w| {
-        writeln!(w, "{HEADER}")?;
+        writeln!(w, "{}", COLUMNS.join(","))?;
         for p in &profile.points {
-            writeln!(w, "{}", CsvLine(p))?;
+            write!(w, "{},{},", p.column, p.reflection)?;
+            if p.valid {
+                write!(w, "{},{},{},", p.row, p.x_mm, p.z_mm)?;
+            } else {
+                // Whatever an invalid point's position fields hold, they mean "no measurement".
+                w.write_all(b"NaN,NaN,NaN,")?;
+            }
+            writeln!(
+                w,
+                "{},{},{},{},{},{},{},{}",
+                p.intensity,
+                p.width,
+                p.threshold,
+                p.m0,
+                p.m1,
+                p.label.map_or("", PathClass::name),
+                p.valid,
+                p.saturated
+            )?;
         }
         Ok(())
     })
 }
 
-/// One point formatted as a CSV line (without the newline).
-struct CsvLine<'a>(&'a ProfilePoint);
-
-impl fmt::Display for CsvLine<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let p = self.0;
-        write!(f, "{},{},", p.column, p.reflection)?;
-        if p.valid {
-            write!(f, "{},{},{},", p.row, p.x_mm, p.z_mm)?;
-        } else {
-            // Whatever an invalid point's position fields hold, they mean "no measurement".
-            f.write_str("NaN,NaN,NaN,")?;
-        }
-        let label = p.label.map_or("", PathClass::name);
-        write!(
-            f,
-            "{},{},{},{},{},{label},{}",
-            p.intensity,
-            p.width,
-            p.threshold,
-            p.m0,
-            p.m1,
-            u8::from(p.valid)
-        )
-    }
-}
-
-/// Reads a profile written by [`write_profile_csv`]. The header must match [`HEADER`] exactly;
+/// Reads a profile written by [`write_profile_csv`]. The header must name [`COLUMNS`] in order;
 /// a line with a missing field or a value that does not parse is reported with its file, line
-/// number and column name. `\r\n` line endings are accepted.
+/// number and column name. The file may have been re-saved by a spreadsheet (byte-order mark,
+/// quotes, `\r\n`, `;` with decimal commas: see `csv_read`).
 pub fn read_profile_csv(path: &Path) -> Result<Profile, FileError> {
     let text = std::fs::read_to_string(path).map_err(|e| FileError::io(path, "read", e))?;
     parse_profile_csv(path, &text)
@@ -87,66 +80,64 @@ pub fn read_profile_csv(path: &Path) -> Result<Profile, FileError> {
 
 /// [`read_profile_csv`] of a file's text already in memory (`path` names it in messages).
 pub fn parse_profile_csv(path: &Path, text: &str) -> Result<Profile, FileError> {
-    let mut lines = text.lines();
-    let header = lines.next().unwrap_or("");
-    if header != HEADER {
+    let csv = CsvText::parse(path, text)?;
+    if csv.header != COLUMNS {
         return Err(FileError::CsvHeader {
             path: path.to_path_buf(),
-            expected: HEADER,
-            found: header.to_string(),
+            expected: COLUMNS.join(","),
+            found: csv.header_line(),
         });
     }
-    let mut points = Vec::new();
-    for (i, line) in lines.enumerate() {
-        // The header is line 1.
-        points.push(parse_line(path, i + 2, line)?);
-    }
+    let points = csv
+        .rows
+        .iter()
+        .map(|row| parse_row(path, &csv, row.line, &row.fields))
+        .collect::<Result<_, _>>()?;
     Ok(Profile { points })
 }
 
-fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoint, FileError> {
-    let fields: Vec<&str> = line.split(',').collect();
-    let Ok(fields) = <[&str; COLUMNS.len()]>::try_from(fields.as_slice()) else {
-        return Err(FileError::CsvFieldCount {
-            path: path.to_path_buf(),
-            line: line_number,
-            expected: COLUMNS.len(),
-            found: fields.len(),
-        });
-    };
+fn parse_row(
+    path: &Path,
+    csv: &CsvText,
+    line: usize,
+    fields: &[String],
+) -> Result<ProfilePoint, FileError> {
     let error = |index: usize, expected: &'static str| FileError::CsvValue {
         path: path.to_path_buf(),
-        line: line_number,
+        line,
         column: COLUMNS[index],
         expected,
-        found: fields[index].to_string(),
+        found: fields[index].clone(),
+    };
+    let number = |index: usize| csv.number(&fields[index]).ok_or(error(index, "a number"));
+    let boolean = |index: usize| match fields[index].as_str() {
+        "true" => Ok(true),
+        "false" => Ok(false),
+        _ => Err(error(index, "true or false")),
     };
     // Fields are checked left to right, so the first bad field is the one reported.
-    let column = parse_field(&fields, 0, "a non-negative integer", &error)?;
-    let reflection: u8 = parse_field(&fields, 1, "an integer from 0 to 3", &error)?;
+    let column = parse_integer(fields, 0, "a non-negative integer", &error)?;
+    let reflection: u8 = parse_integer(fields, 1, "an integer from 0 to 3", &error)?;
     if usize::from(reflection) >= MAX_PEAKS {
         return Err(error(1, "an integer from 0 to 3"));
     }
-    let row = parse_field(&fields, 2, "a number", &error)?;
-    let x_mm = parse_field(&fields, 3, "a number", &error)?;
-    let z_mm = parse_field(&fields, 4, "a number", &error)?;
-    let intensity = parse_field(&fields, 5, "an integer from 0 to 65535", &error)?;
-    let width = parse_field(&fields, 6, "an integer from 0 to 4294967295", &error)?;
-    let threshold = parse_field(&fields, 7, "an integer from 0 to 65535", &error)?;
-    let m0 = parse_field(&fields, 8, "a number", &error)?;
-    let m1 = parse_field(&fields, 9, "a number", &error)?;
-    let label = match fields[10] {
+    let row = number(2)?;
+    let x_mm = number(3)?;
+    let z_mm = number(4)?;
+    let intensity = parse_integer(fields, 5, "an integer from 0 to 65535", &error)?;
+    let width = parse_integer(fields, 6, "an integer from 0 to 4294967295", &error)?;
+    let threshold = parse_integer(fields, 7, "an integer from 0 to 65535", &error)?;
+    let m0 = number(8)?;
+    let m1 = number(9)?;
+    let label = match fields[10].as_str() {
         "" => None,
         name => Some(
             PathClass::from_name(name)
                 .ok_or_else(|| error(10, "a path class name (glass_face, table, …) or nothing"))?,
         ),
     };
-    let valid = match fields[11] {
-        "0" => false,
-        "1" => true,
-        _ => return Err(error(11, "0 or 1")),
-    };
+    let valid = boolean(11)?;
+    let saturated = boolean(12)?;
     Ok(ProfilePoint {
         column,
         reflection,
@@ -160,12 +151,13 @@ fn parse_line(path: &Path, line_number: usize, line: &str) -> Result<ProfilePoin
         m1,
         label,
         valid,
+        saturated,
     })
 }
 
-/// Parses `fields[index]`, or reports what the column should have held.
-fn parse_field<T: FromStr>(
-    fields: &[&str],
+/// Parses `fields[index]` as an integer type, or reports what the column should have held.
+fn parse_integer<T: FromStr>(
+    fields: &[String],
     index: usize,
     expected: &'static str,
     error: &impl Fn(usize, &'static str) -> FileError,
@@ -191,6 +183,7 @@ mod tests {
             m1: 2500.0 * row,
             label: None,
             valid: true,
+            saturated: row > 500.0,
         }
     }
 
@@ -208,6 +201,7 @@ mod tests {
             m1: 0.0,
             label: None,
             valid: false,
+            saturated: false,
         }
     }
 
@@ -261,6 +255,7 @@ mod tests {
                 p.m1.to_bits(),
                 p.label,
                 p.valid,
+                p.saturated,
             )
         };
         for (a, b) in read.points.iter().zip(&profile.points) {
@@ -292,17 +287,24 @@ mod tests {
         write_profile_csv(&path, &profile).unwrap();
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
-            "column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid\n\
-             7,0,10.5,-2.25,100,1023,3,128,2500,26250,,1\n\
-             7,1,20,-2.25,120,1023,3,128,2500,50000,glass_edge,1\n\
-             8,0,NaN,NaN,NaN,0,0,57,0,0,,0\n"
+            "column,reflection,row_px,x_mm,z_mm,intensity_dn,width_px,threshold_dn,m0_dn,\
+             m1_dn_px,label,valid,saturated\n\
+             7,0,10.5,-2.25,100,1023,3,128,2500,26250,,true,false\n\
+             7,1,20,-2.25,120,1023,3,128,2500,50000,glass_edge,true,false\n\
+             8,0,NaN,NaN,NaN,0,0,57,0,0,,false,false\n"
         );
+    }
+
+    /// The header line as written.
+    fn header() -> String {
+        COLUMNS.join(",")
     }
 
     #[test]
     fn crlf_and_missing_final_newline_are_accepted() {
         let (_dir, path) = write_text(&format!(
-            "{HEADER}\r\n1,2,2.5,3,4,5,6,7,8,9,table,1\r\n2,0,NaN,NaN,NaN,0,0,128,0,0,,0"
+            "{}\r\n1,2,2.5,3,4,5,6,7,8,9,table,true,true\r\n2,0,NaN,NaN,NaN,0,0,128,0,0,,false,false",
+            header()
         ));
         let read = read_profile_csv(&path).unwrap();
         assert_eq!(read.points.len(), 2);
@@ -319,6 +321,7 @@ mod tests {
             m1: 9.0,
             label: Some(PathClass::Table),
             valid: true,
+            saturated: true,
         };
         assert_eq!(read.points[0], expected);
         assert!(!read.points[1].valid && read.points[1].threshold == 128);
@@ -327,7 +330,8 @@ mod tests {
     #[test]
     fn truncated_line_reports_file_and_line() {
         let (_dir, path) = write_text(&format!(
-            "{HEADER}\n0,0,1.5,2,3,100,4,128,1,1.5,,1\n1,0,2.5,3"
+            "{}\n0,0,1.5,2,3,100,4,128,1,1.5,,true,false\n1,0,2.5,3",
+            header()
         ));
         let err = read_profile_csv(&path).unwrap_err();
         assert!(
@@ -335,7 +339,7 @@ mod tests {
                 err,
                 FileError::CsvFieldCount {
                     line: 3,
-                    expected: 12,
+                    expected: 13,
                     found: 4,
                     ..
                 }
@@ -348,7 +352,8 @@ mod tests {
     #[test]
     fn bad_number_reports_file_line_and_column() {
         let (_dir, path) = write_text(&format!(
-            "{HEADER}\n0,0,1.5,2,3,100,4,128,1,1.5,,1\n1,0,2.5,3,abc,100,4,128,1,1.5,,1\n"
+            "{}\n0,0,1.5,2,3,100,4,128,1,1.5,,true,false\n1,0,2.5,3,abc,100,4,128,1,1.5,,true,false\n",
+            header()
         ));
         let message = read_profile_csv(&path).unwrap_err().to_string();
         assert!(
@@ -360,20 +365,21 @@ mod tests {
     #[test]
     fn out_of_range_and_bad_fields_are_refused() {
         for (line, column) in [
-            ("0,0,1,2,3,70000,4,128,1,1,,1", "intensity"),
-            ("-1,0,1,2,3,7,4,128,1,1,,1", "column"),
-            ("0,4,1,2,3,7,4,128,1,1,,1", "reflection"),
-            ("0,-1,1,2,3,7,4,128,1,1,,1", "reflection"),
-            ("0,0,1,2,3,7,4,1024000,1,1,,1", "threshold"),
-            ("0,0,1,2,3,7,4,128,x,1,,1", "m0"),
-            ("0,0,1,2,3,7,4,128,1,,,1", "m1"),
-            ("0,0,1,2,3,7,4,128,1,1,Table,1", "label"),
-            ("0,0,1,2,3,7,4,128,1,1,glass,1", "label"),
-            ("0,0,1,2,3,7,4,128,1,1,,2", "valid"),
-            ("0,0,1,2,3,7,4,128,1,1,,true", "valid"),
-            ("0,0,1,2,3,7,,128,1,1,,1", "width"),
+            ("0,0,1,2,3,70000,4,128,1,1,,true,false", "intensity_dn"),
+            ("-1,0,1,2,3,7,4,128,1,1,,true,false", "column"),
+            ("0,4,1,2,3,7,4,128,1,1,,true,false", "reflection"),
+            ("0,-1,1,2,3,7,4,128,1,1,,true,false", "reflection"),
+            ("0,0,1,2,3,7,4,1024000,1,1,,true,false", "threshold_dn"),
+            ("0,0,1,2,3,7,4,128,x,1,,true,false", "m0_dn"),
+            ("0,0,1,2,3,7,4,128,1,,,true,false", "m1_dn_px"),
+            ("0,0,1,2,3,7,4,128,1,1,Table,true,false", "label"),
+            ("0,0,1,2,3,7,4,128,1,1,glass,true,false", "label"),
+            ("0,0,1,2,3,7,4,128,1,1,,2,false", "valid"),
+            ("0,0,1,2,3,7,4,128,1,1,,1,false", "valid"),
+            ("0,0,1,2,3,7,4,128,1,1,,true,TRUE", "saturated"),
+            ("0,0,1,2,3,7,,128,1,1,,true,false", "width_px"),
         ] {
-            let (_dir, path) = write_text(&format!("{HEADER}\n{line}\n"));
+            let (_dir, path) = write_text(&format!("{}\n{line}\n", header()));
             let err = read_profile_csv(&path).unwrap_err();
             assert!(
                 err.to_string()
@@ -388,7 +394,9 @@ mod tests {
         for text in [
             "",
             "column,row,x_mm,z_mm,intensity,width,valid\n",
-            "0,0,1,2,3,7,4,128,1,1,,1\n",
+            // The header before units and booleans (glassscan 0.1 before issue 13).
+            "column,reflection,row,x_mm,z_mm,intensity,width,threshold,m0,m1,label,valid\n",
+            "0,0,1,2,3,7,4,128,1,1,,true,false\n",
         ] {
             let (_dir, path) = write_text(text);
             let err = read_profile_csv(&path).unwrap_err();

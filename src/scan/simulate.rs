@@ -156,6 +156,7 @@ pub fn sense_pose(
     );
     let profile = extract(
         &exposure.dn,
+        cfg.imager.max_dn(),
         Some(&irradiance.by_class),
         &head.camera,
         &cfg.firmware,

@@ -70,6 +70,7 @@ fn a_clean_line_at_f22_with_speckle_off_is_wider_than_two_pixels_and_passes_the_
             head.camera.pixel_area(),
             cfg.laser.wavelength_m,
         ),
+        cfg.imager.max_dn(),
         Some(&traced.by_class),
         &head.camera,
         &cfg.firmware,

@@ -19,6 +19,8 @@ use glassscan::sensor::profile::{
 
 const COLUMNS: usize = 640;
 const ROWS: usize = 832;
+/// The 10-bit ADC of the scanCONTROL preset: the firmware flags peaks that reach it.
+const FULL_SCALE_DN: u16 = 1023;
 
 fn camera() -> Camera {
     let s = scancontrol_2600_100();
@@ -104,7 +106,13 @@ fn gaussian_line_centroid_is_exact_to_a_fiftieth_of_a_pixel() {
         // A centre that walks 0.613 px per column sweeps every sub-pixel phase.
         let centre = |c: usize| 200.0 + 0.613 * c as f64;
         let img = image(|c| vec![line(centre(c), sigma, 1000.0)], |_, _| 0.0);
-        let prof = extract(&img, None, &cam, &settings(PeakSelect::First));
+        let prof = extract(
+            &img,
+            FULL_SCALE_DN,
+            None,
+            &cam,
+            &settings(PeakSelect::First),
+        );
         assert_eq!(prof.points.len(), COLUMNS);
         let errors: Vec<f64> = prof
             .points
@@ -176,7 +184,7 @@ fn assert_columns(profile: &Profile, expected: &[(u8, Line)], what: &str) {
 fn each_selection_mode_picks_its_peak() {
     let cam = camera();
     let img = uniform(&[A, B, C, D]);
-    let run = |m: PeakSelect| extract(&img, None, &cam, &settings(m));
+    let run = |m: PeakSelect| extract(&img, FULL_SCALE_DN, None, &cam, &settings(m));
     assert_columns(&run(PeakSelect::First), &[(0, A)], "FIRST");
     assert_columns(&run(PeakSelect::Last), &[(3, D)], "LAST");
     assert_columns(&run(PeakSelect::LargestArea), &[(1, B)], "LARGEST_AREA");
@@ -197,7 +205,15 @@ fn each_selection_mode_picks_its_peak() {
     );
 
     let two = uniform(&[A, C]);
-    let single = |img: &Image<u16>| extract(img, None, &cam, &settings(PeakSelect::Single));
+    let single = |img: &Image<u16>| {
+        extract(
+            img,
+            FULL_SCALE_DN,
+            None,
+            &cam,
+            &settings(PeakSelect::Single),
+        )
+    };
     assert_columns(&single(&two), &[], "SINGLE, 2 peaks");
     assert_columns(&single(&uniform(&[C])), &[(0, C)], "SINGLE, 1 peak");
 }
@@ -210,19 +226,22 @@ fn peak_filter_drops_too_wide_and_too_dim_peaks() {
         width_range_px: (2, 8),
         ..settings(PeakSelect::All)
     };
-    let widths: Vec<u32> = points_of(&extract(&img, None, &cam, &settings(PeakSelect::All)), 0)
-        .iter()
-        .map(|p| p.width)
-        .collect();
+    let widths: Vec<u32> = points_of(
+        &extract(&img, FULL_SCALE_DN, None, &cam, &settings(PeakSelect::All)),
+        0,
+    )
+    .iter()
+    .map(|p| p.width)
+    .collect();
     eprintln!("widths above 128 DN of A, B, C, D: {widths:?} px");
-    let prof = extract(&img, None, &cam, &narrow);
+    let prof = extract(&img, FULL_SCALE_DN, None, &cam, &narrow);
     assert_columns(&prof, &[(0, A), (1, C), (2, D)], "width 2…8");
     let largest = FirmwareSettings {
         peak_select: PeakSelect::LargestArea,
         ..narrow
     };
     assert_columns(
-        &extract(&img, None, &cam, &largest),
+        &extract(&img, FULL_SCALE_DN, None, &cam, &largest),
         &[(1, C)],
         "width 2…8, LARGEST_AREA",
     );
@@ -230,7 +249,7 @@ fn peak_filter_drops_too_wide_and_too_dim_peaks() {
         intensity_range_dn: (400, 1023),
         ..settings(PeakSelect::All)
     };
-    let prof = extract(&img, None, &cam, &bright);
+    let prof = extract(&img, FULL_SCALE_DN, None, &cam, &bright);
     assert_columns(&prof, &[(0, B), (1, C)], "intensity 400…1023");
 }
 
@@ -245,16 +264,16 @@ fn more_than_four_peaks_keep_the_first_four_from_the_top() {
     // are counted, so it does not take one.
     let spike = |_: usize, r: usize| if r == 40 { 700.0 } else { 0.0 };
     let img = image(|_| five.clone(), spike);
-    let all = extract(&img, None, &cam, &settings(PeakSelect::All));
+    let all = extract(&img, FULL_SCALE_DN, None, &cam, &settings(PeakSelect::All));
     assert_columns(&all, &slots, "ALL, 5 peaks");
-    let last = extract(&img, None, &cam, &settings(PeakSelect::Last));
+    let last = extract(&img, FULL_SCALE_DN, None, &cam, &settings(PeakSelect::Last));
     assert_columns(&last, &[(3, five[3])], "LAST, 5 peaks");
     let two = FirmwareSettings {
         max_peaks: 2,
         ..settings(PeakSelect::All)
     };
     assert_columns(
-        &extract(&img, None, &cam, &two),
+        &extract(&img, FULL_SCALE_DN, None, &cam, &two),
         &slots[..2],
         "ALL, max_peaks 2",
     );
@@ -271,7 +290,7 @@ fn fewer_points_report_the_middle_column_of_each_group() {
             ..settings(PeakSelect::First)
         };
         assert_eq!(s.check(COLUMNS, 1023), Ok(()));
-        let prof = extract(&img, None, &cam, &s);
+        let prof = extract(&img, FULL_SCALE_DN, None, &cam, &s);
         assert_eq!(prof.points.len(), points);
         let k = COLUMNS / points;
         for (i, p) in prof.points.iter().enumerate() {
@@ -299,7 +318,13 @@ fn automatic_threshold_finds_a_faint_line_on_a_noisy_background() {
         |c| if c < 320 { vec![faint] } else { Vec::new() },
         background,
     );
-    let fixed = extract(&img, None, &cam, &settings(PeakSelect::First));
+    let fixed = extract(
+        &img,
+        FULL_SCALE_DN,
+        None,
+        &cam,
+        &settings(PeakSelect::First),
+    );
     assert!(
         fixed.points.iter().all(|p| !p.valid),
         "the fixed 128 DN sees the line"
@@ -308,7 +333,7 @@ fn automatic_threshold_finds_a_faint_line_on_a_noisy_background() {
         threshold: Threshold::Automatic,
         ..settings(PeakSelect::First)
     };
-    let prof = extract(&img, None, &cam, &auto);
+    let prof = extract(&img, FULL_SCALE_DN, None, &cam, &auto);
     let (left, right) = prof.points.split_at(320);
     assert!(
         right.iter().all(|p| !p.valid),
@@ -359,17 +384,29 @@ fn points_carry_the_path_class_of_their_peak() {
         }
     }
     let img = uniform(&[table, edge]);
-    let all = extract(&img, Some(&classes), &cam, &settings(PeakSelect::All));
+    let all = extract(
+        &img,
+        FULL_SCALE_DN,
+        Some(&classes),
+        &cam,
+        &settings(PeakSelect::All),
+    );
     assert_columns(&all, &[(0, table), (1, edge)], "ALL");
     for pair in all.points.chunks(2) {
         assert_eq!(pair[0].label, Some(PathClass::Table));
         assert_eq!(pair[1].label, Some(PathClass::GlassEdge));
     }
-    let last = extract(&img, Some(&classes), &cam, &settings(PeakSelect::Last));
+    let last = extract(
+        &img,
+        FULL_SCALE_DN,
+        Some(&classes),
+        &cam,
+        &settings(PeakSelect::Last),
+    );
     assert!(last
         .points
         .iter()
         .all(|p| p.label == Some(PathClass::GlassEdge)));
-    let unlabelled = extract(&img, None, &cam, &settings(PeakSelect::All));
+    let unlabelled = extract(&img, FULL_SCALE_DN, None, &cam, &settings(PeakSelect::All));
     assert!(unlabelled.points.iter().all(|p| p.label.is_none()));
 }

@@ -62,6 +62,10 @@ pub struct ProfilePoint {
     pub label: Option<PathClass>,
     /// Whether the point holds a measurement.
     pub valid: bool,
+    /// Whether the peak reaches the ADC's full scale: a clipped peak, whose centroid is that
+    /// of its flat top rather than of the light, and whose intensity says nothing of how
+    /// bright the light was. False for an invalid point.
+    pub saturated: bool,
 }
 
 impl ProfilePoint {
@@ -80,6 +84,7 @@ impl ProfilePoint {
             m1: 0.0,
             label: None,
             valid: false,
+            saturated: false,
         }
     }
 }
@@ -280,11 +285,15 @@ impl FirmwareSettings {
 /// of the image's size; each point is labelled with the class of largest irradiance summed over
 /// its peak's window, or `SensorNoise` when no traced light reached it.
 ///
+/// `full_scale_dn` is the ADC's largest value (2^adc_bits − 1): a point whose peak reaches it is
+/// flagged `saturated`.
+///
 /// Panics if `points_per_profile` is 0 or does not divide the columns, if `max_peaks` is not
 /// 1…4, or if `classes` does not match (cheap preconditions: [`FirmwareSettings::check`] and the
 /// transport guarantee them).
 pub fn extract(
     image: &Image<u16>,
+    full_scale_dn: u16,
     classes: Option<&[Image<f64>]>,
     camera: &Camera,
     settings: &FirmwareSettings,
@@ -334,7 +343,9 @@ pub fn extract(
         for slot in chosen {
             let peak = &found[slot];
             let label = classes.map(|c| peaks::label(c, column, peak.window));
-            points.push(locate(camera, column, slot as u8, threshold, peak, label));
+            let mut point = locate(camera, column, slot as u8, threshold, peak, label);
+            point.saturated = point.valid && peak.max_dn >= full_scale_dn;
+            points.push(point);
         }
     }
     Profile { points }
@@ -364,44 +375,19 @@ fn locate(
             m1: peak.m1,
             label,
             valid: true,
+            saturated: false,
         },
         None => ProfilePoint::invalid(column, reflection, threshold),
     }
-}
-
-/// Settings of the first-version extraction, kept only until `scan::simulate` calls
-/// [`extract`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ExtractSettings {
-    /// Pixels at or below this value (DN) are background.
-    pub threshold_dn: u16,
-    /// Points per profile; must divide the number of columns.
-    pub points_per_profile: usize,
-}
-
-/// The first version's behaviour through [`extract`]: fixed threshold, no peak filter, the
-/// largest-area peak, no labels. It differs from the first version only in ignoring runs past
-/// the fourth from the top. Temporary: remove once `scan::simulate` calls [`extract`].
-pub fn extract_first_version(
-    image: &Image<u16>,
-    camera: &Camera,
-    settings: &ExtractSettings,
-) -> Profile {
-    let firmware = FirmwareSettings {
-        threshold: Threshold::Fixed(settings.threshold_dn),
-        peak_select: PeakSelect::LargestArea,
-        width_range_px: (1, u32::MAX),
-        intensity_range_dn: (0, u16::MAX),
-        points_per_profile: settings.points_per_profile,
-        max_peaks: MAX_PEAKS,
-    };
-    extract(image, None, camera, &firmware)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::sensor::preset::scancontrol_2600_100;
+
+    /// The 10-bit ADC of the synthetic images below.
+    const FULL_SCALE_DN: u16 = 1023;
 
     fn camera() -> Camera {
         let s = scancontrol_2600_100();
@@ -443,7 +429,13 @@ mod tests {
         let cam = camera();
         for centre in [400.0, 400.25, 400.5, 400.8] {
             let img = lines(&[(centre, 1.5, 900.0)]);
-            let prof = extract(&img, None, &cam, &settings(PeakSelect::First));
+            let prof = extract(
+                &img,
+                FULL_SCALE_DN,
+                None,
+                &cam,
+                &settings(PeakSelect::First),
+            );
             assert_eq!(prof.points.len(), 640);
             let p = prof.points[320];
             assert!(p.valid && p.column == 320 && p.threshold == 128);
@@ -466,8 +458,20 @@ mod tests {
         for r in 0..832 {
             img.data[r * 640 + 7] = 0;
         }
-        let area = extract(&img, None, &cam, &settings(PeakSelect::LargestArea));
-        let bright = extract(&img, None, &cam, &settings(PeakSelect::MaxIntensity));
+        let area = extract(
+            &img,
+            FULL_SCALE_DN,
+            None,
+            &cam,
+            &settings(PeakSelect::LargestArea),
+        );
+        let bright = extract(
+            &img,
+            FULL_SCALE_DN,
+            None,
+            &cam,
+            &settings(PeakSelect::MaxIntensity),
+        );
         assert!((area.points[100].row - 300.0).abs() < 0.05);
         assert_eq!(area.points[100].reflection, 0);
         assert!((bright.points[100].row - 600.0).abs() < 0.05);
@@ -477,17 +481,22 @@ mod tests {
     }
 
     #[test]
-    fn the_compatibility_wrapper_keeps_the_largest_area() {
+    fn a_peak_that_reaches_full_scale_is_flagged_saturated() {
+        // Two lines: one clipped at the 10-bit full scale (1023 DN), one at 400 DN.
         let cam = camera();
-        let img = lines(&[(300.0, 3.0, 400.0), (600.0, 0.8, 900.0)]);
-        let old = ExtractSettings {
-            threshold_dn: 50,
-            points_per_profile: 320,
-        };
-        let prof = extract_first_version(&img, &cam, &old);
-        assert_eq!(prof.points.len(), 320);
-        assert!((prof.points[10].row - 300.0).abs() < 0.05);
-        assert_eq!(prof.points[10].column, 21);
+        let img = lines(&[(300.0, 3.0, 2000.0), (600.0, 1.0, 400.0)]);
+        let prof = extract(&img, FULL_SCALE_DN, None, &cam, &settings(PeakSelect::All));
+        let column: Vec<_> = prof
+            .points
+            .iter()
+            .filter(|p| p.column == prof.points[5].column)
+            .collect();
+        assert_eq!(column.len(), 2);
+        assert!(column[0].valid && column[0].saturated && column[0].intensity == 1023);
+        assert!(column[1].valid && !column[1].saturated && column[1].intensity < 1023);
+        // With a 12-bit ADC the same image is not clipped.
+        let wide = extract(&img, 4095, None, &cam, &settings(PeakSelect::All));
+        assert!(wide.points.iter().all(|p| !p.saturated));
     }
 
     #[test]
