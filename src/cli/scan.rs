@@ -161,7 +161,12 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
         let csv = format!("{stem}_profile.csv");
         png16::write_sensor_png16(&cfg.out.join(&png), &result.image, adc_bits)
             .map_err(CliError::internal)?;
-        exr::write_irradiance_exr(&cfg.out.join(&exr_name), &result.irradiance)
+        let notes = exr::IrradianceNotes {
+            wavelength_m: world.sensor.laser.wavelength_m,
+            exposure_s: world.sensor.imager.exposure_s,
+            sensor_to_base: pose.sensor,
+        };
+        exr::write_irradiance_exr(&cfg.out.join(&exr_name), &result.irradiance, &notes)
             .map_err(CliError::internal)?;
         profile_csv::write_profile_csv(&cfg.out.join(&csv), &result.profile)
             .map_err(CliError::internal)?;

@@ -139,7 +139,12 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
     let adc_bits = world.sensor.imager.adc_bits;
 
     png16::write_sensor_png16(&dir.join(FILES[0]), &r.image, adc_bits)?;
-    exr::write_irradiance_exr(&dir.join(FILES[1]), &r.irradiance)?;
+    let notes = exr::IrradianceNotes {
+        wavelength_m: world.sensor.laser.wavelength_m,
+        exposure_s: world.sensor.imager.exposure_s,
+        sensor_to_base: sample.pose.sensor,
+    };
+    exr::write_irradiance_exr(&dir.join(FILES[1]), &r.irradiance, &notes)?;
 
     profile_csv::write_profile_csv(&dir.join(FILES[2]), &r.profile)?;
 

@@ -32,10 +32,35 @@ pub fn pose_to_mm_deg(pose: &Pose) -> ([f64; 3], [f64; 3]) {
     )
 }
 
+/// The pose as a row-major 4 × 4 homogeneous matrix with the translation in millimetres:
+/// `p_parent = M · [p_child, 1]` (column vectors, translation in the last column).
+pub fn pose_to_matrix_mm(pose: &Pose) -> [f64; 16] {
+    let mut m = pose.to_homogeneous();
+    for r in 0..3 {
+        m[(r, 3)] *= 1e3;
+    }
+    std::array::from_fn(|k| m[(k / 4, k % 4)])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use nalgebra::Point3;
+
+    #[test]
+    fn the_matrix_maps_millimetre_points_as_the_pose_maps_metres() {
+        let pose = pose_from_mm_deg([10.0, -20.0, 300.0], [15.0, -30.0, 100.0]);
+        let m = pose_to_matrix_mm(&pose);
+        let p_mm = [3.0, -4.0, 5.0];
+        let mapped: Vec<f64> = (0..3)
+            .map(|r| (0..3).map(|c| m[4 * r + c] * p_mm[c]).sum::<f64>() + m[4 * r + 3])
+            .collect();
+        let expected = pose * Point3::new(3e-3, -4e-3, 5e-3);
+        for k in 0..3 {
+            assert!((mapped[k] - expected[k] * 1e3).abs() < 1e-9, "{mapped:?}");
+        }
+        assert_eq!(&m[12..], &[0.0, 0.0, 0.0, 1.0]);
+    }
 
     #[test]
     fn mm_deg_round_trip() {

@@ -13,13 +13,15 @@ use std::io::{BufReader, Cursor};
 use std::path::Path;
 
 use exr::prelude::{
-    AnyChannel, AnyChannels, Blocks, Compression, Encoding, FlatSamples, Layer, LayerAttributes,
-    LineOrder, ReadChannels, ReadLayers, SmallVec, Text, WritableImage,
+    AnyChannel, AnyChannels, AttributeValue, Blocks, Compression, Encoding, FlatSamples,
+    ImageAttributes, IntegerBounds, Layer, LayerAttributes, LineOrder, ReadChannels, ReadLayers,
+    SmallVec, Text, WritableImage,
 };
 
 use super::atomic::write_atomic;
 use super::error::check_image_size;
 use super::FileError;
+use crate::geometry::pose::{pose_to_matrix_mm, Pose};
 use crate::sensor::image::Image;
 use crate::sensor::path_class::PathClass;
 use crate::transport::Irradiance;
@@ -43,6 +45,31 @@ pub fn write_exr_layers(
     height: usize,
     layers: &[(&str, &[f32])],
 ) -> Result<(), FileError> {
+    write_exr_layers_with(path, width, height, layers, ExrHeader::default())
+}
+
+/// Header attributes beyond the layers. The exr crate keeps custom attributes in hash maps
+/// and writes each map in its iteration order, which differs from process to process; so each
+/// map holds at most one custom attribute, and files stay byte-identical run to run.
+#[derive(Default)]
+struct ExrHeader {
+    /// The layer's attributes, with at most one entry in `other`.
+    layer: LayerAttributes,
+    /// One custom attribute of the image (written after the layer's).
+    image_custom: Option<(Text, AttributeValue)>,
+}
+
+fn write_exr_layers_with(
+    path: &Path,
+    width: usize,
+    height: usize,
+    layers: &[(&str, &[f32])],
+    header: ExrHeader,
+) -> Result<(), FileError> {
+    assert!(
+        header.layer.other.len() <= 1,
+        "one custom layer attribute at most"
+    );
     let layout_error = |expected: &str, found: String| FileError::ExrLayout {
         path: path.to_path_buf(),
         expected: expected.to_string(),
@@ -73,14 +100,17 @@ pub fn write_exr_layers(
     }
     let layer = Layer::new(
         (width, height),
-        LayerAttributes::default(),
+        header.layer,
         ENCODING,
         AnyChannels::sort(channels),
     );
+    let bounds = IntegerBounds::new(layer.attributes.layer_position, layer.size);
+    let mut image_attributes = ImageAttributes::new(bounds);
+    image_attributes.other.extend(header.image_custom);
     // Encoding to memory first means an encoder error never leaves a temporary file behind,
     // and the atomic writer does not need to offer `Seek`.
     let mut encoded = Cursor::new(Vec::new());
-    exr::prelude::Image::from_layer(layer)
+    exr::prelude::Image::new(image_attributes, layer)
         .write()
         .to_buffered(&mut encoded)
         .map_err(|source| FileError::Exr {
@@ -92,9 +122,55 @@ pub fn write_exr_layers(
     write_atomic(path, |w| w.write_all(&encoded))
 }
 
+/// What an irradiance image was made with, stored in its EXR header.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IrradianceNotes {
+    /// The laser's vacuum wavelength (m).
+    pub wavelength_m: f64,
+    /// The exposure time (s).
+    pub exposure_s: f64,
+    /// The sensor's pose in the base frame (sensor → base).
+    pub sensor_to_base: Pose,
+}
+
+impl IrradianceNotes {
+    /// The header attributes: the standard `expTime` (s), `comments` (which says the unit,
+    /// W/m²) and `software`, and the custom `sensorToBaseMm` (4 × 4, row-major, mm; f32 as EXR
+    /// matrices are: the dataset's ground truth holds it in f64) and `wavelengthNm` (f64).
+    fn header(&self) -> ExrHeader {
+        let mut a = LayerAttributes {
+            exposure: Some(self.exposure_s as f32),
+            comments: Some(Text::from(
+                "glassscan irradiance at the pixels (W/m^2): 'irradiance' is the total, \
+                 'class.<path class>' its part by light path",
+            )),
+            software_name: Some(Text::from(
+                format!("glassscan {}", env!("CARGO_PKG_VERSION")).as_str(),
+            )),
+            ..LayerAttributes::default()
+        };
+        let matrix = pose_to_matrix_mm(&self.sensor_to_base).map(|v| v as f32);
+        a.other.insert(
+            Text::from("sensorToBaseMm"),
+            AttributeValue::Matrix4x4(matrix),
+        );
+        ExrHeader {
+            layer: a,
+            image_custom: Some((
+                Text::from("wavelengthNm"),
+                AttributeValue::F64(self.wavelength_m * 1e9),
+            )),
+        }
+    }
+}
+
 /// Writes a pose's irradiance (W/m²) as f32 layers: `irradiance` (the total) and
-/// `class.<path class>` for each path class.
-pub fn write_irradiance_exr(path: &Path, irradiance: &Irradiance) -> Result<(), FileError> {
+/// `class.<path class>` for each path class, with `notes` in the header.
+pub fn write_irradiance_exr(
+    path: &Path,
+    irradiance: &Irradiance,
+    notes: &IrradianceNotes,
+) -> Result<(), FileError> {
     let to_f32 = |img: &Image<f64>| -> Vec<f32> { img.data.iter().map(|&v| v as f32).collect() };
     let total = to_f32(&irradiance.total);
     let classes: Vec<(String, Vec<f32>)> = PathClass::ALL
@@ -108,11 +184,12 @@ pub fn write_irradiance_exr(path: &Path, irradiance: &Irradiance) -> Result<(), 
         .collect();
     let mut layers: Vec<(&str, &[f32])> = vec![("irradiance", &total)];
     layers.extend(classes.iter().map(|(n, d)| (n.as_str(), d.as_slice())));
-    write_exr_layers(
+    write_exr_layers_with(
         path,
         irradiance.total.width,
         irradiance.total.height,
         &layers,
+        notes.header(),
     )
 }
 
@@ -207,6 +284,43 @@ mod tests {
 
     fn bits(data: &[f32]) -> Vec<u32> {
         data.iter().map(|v| v.to_bits()).collect()
+    }
+
+    #[test]
+    fn irradiance_header_holds_units_wavelength_exposure_and_pose() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("pose.exr");
+        let mut img = Image::new(3, 2);
+        img.data.fill(0.5);
+        let irradiance = Irradiance {
+            by_class: PathClass::ALL.iter().map(|_| img.clone()).collect(),
+            total: img,
+        };
+        let sensor_to_base =
+            crate::geometry::pose::pose_from_mm_deg([10.0, 20.0, 300.0], [180.0, 0.0, 45.0]);
+        let notes = IrradianceNotes {
+            wavelength_m: 658e-9,
+            exposure_s: 5e-4,
+            sensor_to_base,
+        };
+        write_irradiance_exr(&path, &irradiance, &notes).unwrap();
+        let meta = exr::meta::MetaData::read_from_file(&path, false).unwrap();
+        let a = &meta.headers[0].own_attributes;
+        assert_eq!(a.exposure, Some(5e-4));
+        assert!(a.comments.as_ref().unwrap().to_string().contains("W/m^2"));
+        let other = |k: &str| a.other.get(&Text::from(k)).cloned();
+        // Exactly the two custom attributes (a reader files both under the layer's).
+        assert_eq!(a.other.len(), 2, "{:?}", a.other.keys().collect::<Vec<_>>());
+        assert_eq!(
+            other("wavelengthNm"),
+            Some(AttributeValue::F64(658e-9 * 1e9))
+        );
+        let Some(AttributeValue::Matrix4x4(m)) = other("sensorToBaseMm") else {
+            panic!("no sensorToBaseMm matrix");
+        };
+        assert_eq!(&m[3..4], &[10.0]);
+        assert_eq!(&m[7..8], &[20.0]);
+        assert_eq!(&m[11..16], &[300.0, 0.0, 0.0, 0.0, 1.0]);
     }
 
     #[test]
