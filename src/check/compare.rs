@@ -24,7 +24,7 @@ pub struct MetricDef {
     /// Tolerance when the suite sets none (absolute, in the metric's unit). Runs are
     /// deterministic, so these only absorb float reordering (compiler, CPU) and separate it
     /// from real change: a fiftieth of a millimetre is a tenth of the profile's point spacing
-    /// at mid range (PARAMETERS.md §1c).
+    /// at mid range (docs/parameters.md §1c).
     pub default_tolerance: f64,
 }
 

@@ -38,7 +38,7 @@ pub struct LocateArgs {
     #[command(flatten)]
     pub light: flags::LightArgs,
     /// Robot repeatability, hand-eye and sensor linearity errors: `off` (the sensor alone) or
-    /// `default` (PARAMETERS.md §6).
+    /// `default` (docs/parameters.md §6).
     #[arg(long, value_name = "off|default", default_value = "off")]
     pub errors: String,
     /// BIP rule whose points are registered: `edge-line` (top of the steep run of edge

@@ -2,7 +2,7 @@
 //! opaque copy of the scene would return it. Fan rays leave the laser's virtual source (the
 //! origin of the sensor frame S) in the laser plane y = 0 and the first surface each one hits
 //! is recorded: glass is treated as opaque, so this is where the light *first* meets the
-//! scene, not what the sensor reports (DESIGN.md, "Ground truth and labels").
+//! scene, not what the sensor reports (ARCHITECTURE.md, "Localisation: what is simulated, what is believed").
 //!
 //! The rays are spaced evenly in tan φ across the full fan (an ideal Powell line spreads light
 //! evenly along x), one per profile point of the firmware setting, so the ideal profile has the

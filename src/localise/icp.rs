@@ -11,12 +11,14 @@
 //! x_i ← c + exp(ω)(x_i − c) + v, whose Jacobian row is [((x_i − c) × m)ᵀ, mᵀ]. The update uses
 //! nalgebra's rotation exponential (`Isometry3::new`), equal to the linearisation to first order.
 //!
-//! Why two planes and not only n_i (the PITFALLS.md recipe): n_i alone leaves each BIP free to
+//! Why two planes and not only n_i (the usual point-to-plane recipe, n_i = the normalised sum
+//! of the surface normal and the outward edge normal, which converged in 3–4 iterations to
+//! ~1e-13 mm on exact points when measured before this crate): n_i alone leaves each BIP free to
 //! slide along b_i, and with imperfect BIPs the fit uses that freedom. Measured on the unit tests'
 //! 300 × 200 mm pane with 12 BIPs: σ = 0.1 mm noise gave 0.19–0.25 mm pose error with n_i alone,
 //! 0.04–0.08 mm with both planes; one 10 mm outlier dragged least squares 8.0 mm with n_i alone
 //! (1.9 mm with both), and the robust fit did not converge in 45 iterations with n_i alone (8
-//! with both, exact pose). Exact points converge in 4 iterations either way, as PITFALLS.md says;
+//! with both, exact pose). Exact points converge in 4 iterations either way, as that measurement found;
 //! the tangential sliding that stalls point-to-point ICP is still free in the linearisation.
 //!
 //! Robustness is iteratively reweighted least squares in two stages: a Huber kernel

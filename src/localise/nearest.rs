@@ -1,8 +1,9 @@
 //! The exact closest point on a closed border polyline, with its interpolated frame.
 //!
-//! ICP needs the closest point on the *segments*, not the nearest vertex: PITFALLS.md measured
-//! that nearest-vertex ICP against a 2 mm-sampled border stalls at 0.47 mm RMS, because below
-//! the vertex spacing tangential sliding becomes a fixed point.
+//! ICP needs the closest point on the *segments*, not the nearest vertex: measured before this
+//! crate was written, nearest-vertex ICP of 12 points against a 2 mm-sampled border stalled at
+//! 0.47 mm RMS from all 20 random starts, in every implementation tried (Open3D, small_gicp,
+//! numpy, Rust), because below the vertex spacing tangential sliding becomes a fixed point.
 
 use nalgebra::{Point3, Vector3};
 

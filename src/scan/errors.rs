@@ -1,7 +1,7 @@
 //! The error sources of a real cell that sit outside the sensor's optics: robot repeatability,
 //! hand-eye calibration error and the sensor's linearity error. Off by default, so that a run
 //! measures the sensor (and the BIP and ICP) alone; `--errors default` switches on the budget
-//! of PARAMETERS.md §6, each term separately settable.
+//! of docs/parameters.md §6, each term separately settable.
 //!
 //! How each enters (the robot commands flange poses; the software believes T_BS = T_BF · T_FS):
 //! - **Robot repeatability**: the flange reaches T_BF · ΔR_k instead of T_BF, a new Gaussian
@@ -9,7 +9,7 @@
 //! - **Hand-eye error**: the true mount is T_FS · ΔH, one Gaussian draw per run (σ per axis in
 //!   translation and rotation), while the software converts with the calibrated T_FS.
 //! - **Linearity**: the sensor reports z + L(z) with L fixed per sensor unit. The datasheet
-//!   gives only a bound (±0.16 % of the full scale, UNVERIFIED, PARAMETERS.md §6), so L is one
+//!   gives only a bound (±0.16 % of the full scale, UNVERIFIED, docs/parameters.md §6), so L is one
 //!   full sine period over the measuring range with that bound as amplitude and a phase drawn
 //!   per unit: a modelling choice (L) that is systematic, smooth and within the spec.
 //!
@@ -50,7 +50,7 @@ impl ErrorModel {
         linearity_m: 0.0,
     };
 
-    /// PARAMETERS.md §6 and §7 ("Suggested default error budget", 1σ): UR e-Series
+    /// docs/parameters.md §6 (the suggested defaults, 1σ): UR e-Series
     /// repeatability 0.03 mm (M); hand-eye residual 0.2 mm / 0.03° (M/L, a good calibration);
     /// linearity ±0.16 % of the 2600-100's 265 mm range = ±0.424 mm (UNVERIFIED, L).
     pub const DEFAULT: ErrorModel = ErrorModel {

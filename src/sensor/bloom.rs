@@ -2,10 +2,10 @@
 //!
 //! - CMOS ([`clip_to_full_well`]): every pixel is read on its own and has no charge transfer
 //!   to its neighbours; the excess is drained (anti-blooming reset), so the overflow stays local
-//!   and the pixel clips at the full well (PARAMETERS.md §2c, M).
+//!   and the pixel clips at the full well (docs/parameters.md §2c, M).
 //! - CCD ([`bleed_columns`]): the excess spills into the neighbouring wells of the same vertical
 //!   transfer column, giving the vertical bleed trail of an overexposed CCD; the channel stops
-//!   keep it out of the neighbouring columns (PARAMETERS.md §2c, H).
+//!   keep it out of the neighbouring columns (docs/parameters.md §2c, H).
 //!
 //! The bleed follows LSST imSim's `imsim/bleed_trails.py` (`bleed_channel`): find each run of
 //! pixels above the full well in a column, set the run to the full well and hand its excess to

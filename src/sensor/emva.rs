@@ -1,13 +1,13 @@
 //! The image sensor's noise: an EMVA 1288 camera simulation, irradiance → noisy digital image.
 //!
-//! Model (EMVA 1288 linear model, PARAMETERS.md §2a; the steps of the reference simulator
+//! Model (EMVA 1288 linear model, docs/parameters.md §2a; the steps of the reference simulator
 //! `EMVA1288/emva1288`, `emva1288/camera/camera.py` `Camera.grab`), for pixel i:
 //!
 //! 1. mean photons μ_p = A·E·t_exp·λ/(h·c) ([`ImagerSpec::photons`]);
 //! 2. collected charge q = Poisson(η·μ_p·g_i) + Poisson(μ_I·t_exp), with g_i = 1 + PRNU·n_i the
 //!    fixed per-pixel gain map (camera.py `_u_e`: `qe · prnu · photons`) and μ_I the dark current;
 //! 3. charge above the full well μ_e,sat: a CMOS pixel clips, a CCD spills it along its column
-//!    (`bloom`, PARAMETERS.md §2c);
+//!    (`bloom`, docs/parameters.md §2c);
 //! 4. readout: s = q + N(0, σ_d0²) + d_i, with d_i = DSNU·n′_i the fixed per-pixel dark offset
 //!    map (e⁻);
 //! 5. y = K·s + black level, rounded and clipped to [0, 2^bits − 1] (camera.py:
@@ -23,11 +23,11 @@
 //!   `dark_offset_dn`; the dark current has no temperature law (μ_I is the value at the
 //!   operating temperature).
 //!
-//! Temporal variance that follows (EMVA 1288, PARAMETERS.md §2a):
+//! Temporal variance that follows (EMVA 1288, docs/parameters.md §2a):
 //! σ_y² = K²·(σ_d0² + μ_I·t_exp) + σ_q² + K·(μ_y − μ_y,dark), σ_q² = 1/12 DN². (camera.py's
 //! rectangular dither before rounding would make it 1/6: the ADC's 1/12 plus the dither's.)
 //!
-//! Randomness (STYLE.md §1.6): every draw is `sampler.uniform(pixel_key(c, r), dimension)`
+//! Randomness (no generator state, so any thread order gives the same image): every draw is `sampler.uniform(pixel_key(c, r), dimension)`
 //! with a fixed dimension per noise term — see [`DIM_PHOTO`], [`DIM_DARK`], [`DIM_READ`]. The PRNU and DSNU maps belong to the sensor, not the frame: they are keyed
 //! by the constant ([`FIXED_PATTERN_SEED`], [`FIXED_PATTERN_STREAM`]), the same for every
 //! frame, pose and run seed. Pixels are independent, so the result does not depend on the

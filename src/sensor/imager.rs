@@ -1,6 +1,6 @@
 //! The image sensor: irradiance (W/m²) → photons → electrons → digital numbers (DN).
 //!
-//! EMVA 1288 linear model (PARAMETERS.md §2a): μ_p = A·E·t_exp·λ/(h·c), μ_e = η·μ_p, clipped at
+//! EMVA 1288 linear model (docs/parameters.md §2a): μ_p = A·E·t_exp·λ/(h·c), μ_e = η·μ_p, clipped at
 //! the full well, μ_y = K·μ_e, clipped to 2^bits − 1. [`ImagerSpec::expose`] is that noise-free
 //! mean model; [`ImagerSpec::expose_noisy`] adds shot, dark and read noise, PRNU/DSNU, the black
 //! level, quantisation and blooming (`emva`, `bloom`), and falls back to `expose` when
@@ -10,7 +10,7 @@ use super::emva::{self, Exposure};
 use super::image::Image;
 use crate::sampler::PoseSampler;
 
-/// What the sensor does with charge above the full well (PARAMETERS.md §2c).
+/// What the sensor does with charge above the full well (docs/parameters.md §2c).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SensorKind {
@@ -66,7 +66,7 @@ impl ImagerSpec {
     }
 
     /// Mean photon count μ_p = A·E·t_exp·λ/(h·c) for irradiance `e_w_m2` on a pixel of area
-    /// `pixel_area_m2` (EMVA 1288, PARAMETERS.md §2a).
+    /// `pixel_area_m2` (EMVA 1288, docs/parameters.md §2a).
     pub fn photons(&self, e_w_m2: f64, pixel_area_m2: f64, wavelength_m: f64) -> f64 {
         e_w_m2 * pixel_area_m2 * self.exposure_s * wavelength_m / (PLANCK_J_S * SPEED_OF_LIGHT_M_S)
     }

@@ -1,4 +1,4 @@
-//! Named sensor presets. Every number cites PARAMETERS.md (shared/), with its confidence.
+//! Named sensor presets. Every number cites docs/parameters.md, where its source and confidence are.
 
 use super::camera::CameraSpec;
 use super::imager::{ImagerSpec, SensorKind};
@@ -20,7 +20,7 @@ pub fn by_name(name: &str) -> Option<SensorConfig> {
 
 /// A Micro-Epsilon scanCONTROL 2600-100 class head.
 ///
-/// - z range 125–390 mm, x width 143.5 mm at the far end (PARAMETERS.md §1c, Zebra/MIL
+/// - z range 125–390 mm, x width 143.5 mm at the far end (docs/parameters.md §1c, Zebra/MIL
 ///   `PRANGE`, M–H); 640 points per profile (§1a SDK, H); 658 nm (paper, H).
 /// - Laser power 8 mW (class 2M, §1c, L). Waist 1/e² full width 0.35 mm at 257.5 mm, the
 ///   Gaussian optimum over the range (§4, derived, M). Fan 24° (not published; chosen to cover

@@ -2,7 +2,7 @@
 //! x–z plane, focused across the sheet (along y) to a Gaussian waist.
 //!
 //! Thickness follows the Gaussian-beam law w(s) = w0·√(1 + ((s − s0)/zR)²), zR = π·w0²/(M²·λ)
-//! (Schäfter+Kirchhoff Rayleigh-range note, PARAMETERS.md §4), with s the path length along
+//! (Schäfter+Kirchhoff Rayleigh-range note, docs/parameters.md §4), with s the path length along
 //! the fan ray and w the 1/e² intensity radius.
 
 /// Intensity distribution along the laser line.
@@ -225,7 +225,7 @@ mod tests {
                 "s = {s}: w = {w}, expected {expected}"
             );
         }
-        // PARAMETERS.md §4: w(125 mm) = w(390 mm) = 471/2 µm for a 333 µm waist at 257.5 mm.
+        // docs/parameters.md §4: w(125 mm) = w(390 mm) = 471/2 µm for a 333 µm waist at 257.5 mm.
         let mut l = laser;
         l.waist_radius_m = 0.1665e-3;
         assert!((l.radius_at(0.125) * 2e6 - 471.0).abs() < 1.5);

@@ -4,7 +4,7 @@
 //! labels.
 //!
 //! References: the centres, heights, widths and areas the images are built from; the mode
-//! definitions of PARAMETERS.md §1a/§1d (ALL, FIRST, LAST, LARGEST_AREA, MAX_INTENSITY,
+//! definitions of docs/parameters.md §1a/§1d (ALL, FIRST, LAST, LARGEST_AREA, MAX_INTENSITY,
 //! SINGLE); the 4 peak slots and 80…640 points per profile of §1a.
 
 use glassscan::sampler::mix64;

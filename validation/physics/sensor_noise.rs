@@ -1,10 +1,10 @@
 //! The image sensor's noise model (`sensor::emva`, `sensor::bloom`) against the EMVA 1288
 //! linear model and charge conservation.
 //!
-//! Reference values: EMVA 1288 Release 3.1 (photon transfer, PARAMETERS.md §2a) and the
+//! Reference values: EMVA 1288 Release 3.1 (photon transfer, docs/parameters.md §2a) and the
 //! formulas of the reference implementation `EMVA1288/emva1288` (`process/results.py`:
 //! σ_y² = K²σ_d² + σ_q² + K·(μ_y − μ_y,dark), SNR = μ_e/√(σ_d² + σ_q²/K² + μ_e)); blooming
-//! after PARAMETERS.md §2c and LSST imSim `imsim/bleed_trails.py`. All frames are synthetic
+//! after docs/parameters.md §2c and LSST imSim `imsim/bleed_trails.py`. All frames are synthetic
 //! irradiance images, so every expected value is known in closed form.
 
 use glassscan::sampler::PoseSampler;
@@ -79,7 +79,7 @@ fn weighted_line(x: &[f64], v: &[f64], w: &[f64]) -> (f64, f64, f64, f64) {
 
 #[test]
 fn photon_transfer_gives_the_gain_and_the_dark_noise() {
-    // EMVA 1288 photon transfer (PARAMETERS.md §2a): a flat patch at 11 levels from dark to 85 %
+    // EMVA 1288 photon transfer (docs/parameters.md §2a): a flat patch at 11 levels from dark to 85 %
     // of the ADC range, two frames per level. The temporal variance (difference image) against
     // the dark-subtracted mean is a line of slope K and intercept K²σ_d² + σ_q², with
     // σ_d² = σ_d0² + μ_I·t_exp (read noise plus dark-current shot noise) and σ_q² = 1/12 DN²
@@ -147,7 +147,7 @@ fn photon_transfer_gives_the_gain_and_the_dark_noise() {
     assert!((dark_var - expected_intercept).abs() < 4.0 * se_dark_var);
 
     // SNR at the top level: μ_e/σ_e with the temporal noise, against √μ_e (the shot-noise
-    // limit, SNR_max = √μ_e,sat in PARAMETERS.md §2a) and the EMVA formula
+    // limit, SNR_max = √μ_e,sat in docs/parameters.md §2a) and the EMVA formula
     // SNR = μ_e/√(σ_d² + σ_q²/K² + μ_e).
     let (top_mean, top_var, top_spatial) = measured[10];
     let mu_e = (top_mean - dark_mean) / k;
@@ -187,7 +187,7 @@ fn spot_scene(kind: SensorKind) -> (ImagerSpec, Image<f64>) {
 
 #[test]
 fn ccd_blooming_conserves_charge_and_bleeds_only_along_the_column() {
-    // PARAMETERS.md §2c: a CCD's excess charge spills along the vertical transfer column. The
+    // docs/parameters.md §2c: a CCD's excess charge spills along the vertical transfer column. The
     // reference is the same frame (same keyed draws) with a full well too deep to fill: its
     // charge is the charge before blooming.
     let (spec, e) = spot_scene(SensorKind::Ccd);
@@ -248,7 +248,7 @@ fn ccd_blooming_conserves_charge_and_bleeds_only_along_the_column() {
 
 #[test]
 fn cmos_clips_at_the_full_well_and_never_spreads() {
-    // PARAMETERS.md §2c: CMOS pixels are read independently; the overflow stays local. Every
+    // docs/parameters.md §2c: CMOS pixels are read independently; the overflow stays local. Every
     // pixel outside the spot reads exactly what it reads with the spot dark (same keyed noise).
     let (spec, e) = spot_scene(SensorKind::Cmos);
     let fw = spec.full_well_e;
@@ -291,7 +291,7 @@ fn cmos_clips_at_the_full_well_and_never_spreads() {
 
 #[test]
 fn saturation_exposure_scales_as_one_over_irradiance() {
-    // μ_e = η·A·E·t·λ/(h·c) (PARAMETERS.md §2a) saturates at a fixed charge, so the exposure at
+    // μ_e = η·A·E·t·λ/(h·c) (docs/parameters.md §2a) saturates at a fixed charge, so the exposure at
     // which a pixel saturates is inversely proportional to the irradiance (the laser power).
     let mut spec = scancontrol_2600_100().imager;
     let k = spec.gain_dn_per_e;

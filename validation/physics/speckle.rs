@@ -23,7 +23,7 @@ fn z_jitter_mm(f_number: f64, exposure_s: f64, seed: u64) -> (f64, f64) {
     let (_, _, rms) = fit_line(&pts);
     // Dorsch, Häusler & Herrmann, Appl. Opt. 33(7):1306 (1994): δz = C·λ/(2π·sin u_obs·sin θ)
     // with u_obs the observation aperture's half-angle and θ the triangulation angle at the
-    // target point (PARAMETERS.md §5).
+    // target point (docs/parameters.md §5).
     let c = head.camera.center() * 1e3; // mm
     let l = (c - nalgebra::Vector3::new(0.0, 0.0, 257.5)).norm();
     let sin_u = 0.5 * head.camera.spec().aperture_diameter_m() * 1e3 / l;

@@ -2,7 +2,7 @@
 //! selection of a peak (or of all of them), their sub-pixel centroids, and the triangulation to
 //! (x, z) in the laser plane.
 //!
-//! The model follows what the scanCONTROL SDK exposes (PARAMETERS.md §1a, §1b, §1d):
+//! The model follows what the scanCONTROL SDK exposes (docs/parameters.md §1a, §1b, §1d):
 //!
 //! - Up to 4 peaks ("reflections") per column; each carries its width, maximum intensity and the
 //!   threshold it was found with (three 10-bit words in the SDK, §1b), and its moments M0 = Σ I
@@ -98,18 +98,18 @@ pub struct Profile {
     pub points: Vec<ProfilePoint>,
 }
 
-/// Peak slots per column in the SDK's PROFILE format (PARAMETERS.md §1a, §1b).
+/// Peak slots per column in the SDK's PROFILE format (docs/parameters.md §1a, §1b).
 pub const MAX_PEAKS: usize = 4;
 
 /// Largest value of the SDK's 10-bit words: width, maximum intensity, threshold, and the peak
-/// filter's limits (PARAMETERS.md §1a, libmescan.c `calc_max_intensity` etc.).
+/// filter's limits (docs/parameters.md §1a, libmescan.c `calc_max_intensity` etc.).
 pub const FIELD_MAX: u16 = 1023;
 
-/// Threshold of the iirob scanCONTROL driver's configuration (PARAMETERS.md §1a, H).
+/// Threshold of the iirob scanCONTROL driver's configuration (docs/parameters.md §1a, H).
 pub const DRIVER_DEFAULT_THRESHOLD_DN: u16 = 128;
 
 /// Points per profile on a 26xx: 80…640 in steps of 80 (libmescan.c `check_resolution`,
-/// PARAMETERS.md §1a).
+/// docs/parameters.md §1a).
 pub const POINTS_PER_PROFILE_26XX: std::ops::RangeInclusive<usize> = 80..=640;
 
 /// Step of [`POINTS_PER_PROFILE_26XX`].
@@ -120,7 +120,7 @@ pub const POINTS_PER_PROFILE_STEP_26XX: usize = 80;
 #[serde(rename_all = "snake_case")]
 pub enum Threshold {
     /// A fixed threshold (DN): pixels at or below it are background. 0…1023 on the sensor
-    /// (PARAMETERS.md §1a).
+    /// (docs/parameters.md §1a).
     Fixed(u16),
     /// A threshold from the column's own background: median + max(k·σ̂, margin), with
     /// σ̂ = 1.4826·MAD (the median absolute deviation, scaled to the standard deviation of
@@ -128,7 +128,7 @@ pub enum Threshold {
     /// margin = [`AUTO_THRESHOLD_MIN_MARGIN_DN`].
     ///
     /// The SDK only has a THRESHOLD_AUTOMATIC ("dynamic") flag, bit 24 of the processing
-    /// register (PARAMETERS.md §1a); Micro-Epsilon does not publish the rule, so this one is a
+    /// register (docs/parameters.md §1a); Micro-Epsilon does not publish the rule, so this one is a
     /// modelling choice: it follows the background and its noise, so a faint line on a dark,
     /// quiet background is found, and the laser line (a few rows of hundreds) does not move
     /// the median.
@@ -143,7 +143,7 @@ pub struct FirmwareSettings {
     /// Which peak of a column is reported (or all of them).
     pub peak_select: PeakSelect,
     /// Peak filter: accepted widths, min and max inclusive (px above threshold). Driver default
-    /// 2…1023 (PARAMETERS.md §1a).
+    /// 2…1023 (docs/parameters.md §1a).
     pub width_range_px: (u32, u32),
     /// Peak filter: accepted maximum intensities, min and max inclusive (DN). Default 0…1023.
     pub intensity_range_dn: (u16, u16),
@@ -212,7 +212,7 @@ impl FirmwareSettingsError {
 }
 
 impl FirmwareSettings {
-    /// The scanCONTROL driver's defaults (iirob `cfg/ScanControl.cfg`, PARAMETERS.md §1a, §1d):
+    /// The scanCONTROL driver's defaults (iirob `cfg/ScanControl.cfg`, docs/parameters.md §1a, §1d):
     /// FIRST peak, peak filter width 2…1023 and intensity 0…1023, 640 points, 4 peak slots,
     /// with a fixed threshold of `threshold_dn` (the driver's is
     /// [`DRIVER_DEFAULT_THRESHOLD_DN`] = 128).
@@ -268,7 +268,7 @@ impl FirmwareSettings {
 ///
 /// Reported columns: with k = columns / `points_per_profile`, point i comes from column
 /// i·k + k/2, the middle of its group of k. This is the SDK's decimation of the camera columns
-/// to 80…640 points (PARAMETERS.md §1a, "Points per profile").
+/// to 80…640 points (docs/parameters.md §1a, "Points per profile").
 ///
 /// Per reported column:
 /// 1. the threshold (fixed, or [`Threshold::Automatic`]);

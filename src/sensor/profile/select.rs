@@ -1,4 +1,4 @@
-//! The firmware's peak ("reflection") selection modes (PARAMETERS.md §1a, §1d).
+//! The firmware's peak ("reflection") selection modes (docs/parameters.md §1a, §1d).
 
 use std::fmt;
 use std::str::FromStr;
@@ -6,7 +6,7 @@ use std::str::FromStr;
 use super::peaks::Peak;
 
 /// Which of a column's peaks become profile points. The SDK's PROC_MULITREFL_* values, bits 2–4
-/// of the PROFILE_PROCESSING register 0xF0F00804 (PARAMETERS.md §1a).
+/// of the PROFILE_PROCESSING register 0xF0F00804 (docs/parameters.md §1a).
 ///
 /// Peaks are ordered top to bottom. Rows grow with range z (`camera`), so the top peak is the
 /// one nearest the sensor.
@@ -16,7 +16,7 @@ pub enum PeakSelect {
     /// Every peak is a point, with its slot 0…3 as the reflection index.
     All,
     /// The peak nearest the sensor (smallest z, smallest row): the iirob driver's default
-    /// (PARAMETERS.md §1d).
+    /// (docs/parameters.md §1d).
     First,
     /// The peak farthest from the sensor (largest z, largest row).
     Last,
@@ -24,7 +24,7 @@ pub enum PeakSelect {
     LargestArea,
     /// The peak of highest maximum intensity; ties go to the first.
     MaxIntensity,
-    /// The only peak; a column with more than one peak is invalid (PARAMETERS.md §1d reads
+    /// The only peak; a column with more than one peak is invalid (docs/parameters.md §1d reads
     /// SINGLE this way; the SDK does not document it).
     Single,
 }
