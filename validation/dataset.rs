@@ -150,6 +150,7 @@ fn dataset_layout_and_ground_truth() {
             "profile.csv",
             "points.ply",
             "ground_truth.json",
+            "ideal_profile.csv",
         ] {
             assert!(
                 files.contains_key(&format!("{}/{f}", line.directory)),
@@ -157,11 +158,39 @@ fn dataset_layout_and_ground_truth() {
                 line.directory
             );
         }
-        let truth: serde_json::Value =
-            serde_json::from_slice(&files[&format!("{}/ground_truth.json", line.directory)])
-                .unwrap();
+        let truth_bytes = &files[&format!("{}/ground_truth.json", line.directory)];
+        // One line of compact JSON: one record for `pandas.read_json(..., lines=True)`.
+        assert_eq!(
+            truth_bytes.iter().filter(|&&b| b == b'\n').count(),
+            1,
+            "ground_truth.json is one line"
+        );
+        assert!(truth_bytes.len() < 8_000, "{} bytes", truth_bytes.len());
+        let truth: serde_json::Value = serde_json::from_slice(truth_bytes).unwrap();
         assert_eq!(truth["index"], line.index);
         assert_eq!(truth["noise_seed"], line.seed);
+        // Every pose also as a matrix and a quaternion that agree with each other.
+        let pose = &truth["sensor_pose"];
+        let m: Vec<f64> = pose["matrix_mm"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let q: Vec<f64> = pose["quaternion_wxyz"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
+        assert!(w >= 0.0 && (w * w + x * x + y * y + z * z - 1.0).abs() < 1e-12);
+        // R[0][0] and R[1][2] from the quaternion (Shoemake).
+        assert!((m[0] - (1.0 - 2.0 * (y * y + z * z))).abs() < 1e-12);
+        assert!((m[6] - 2.0 * (y * z - w * x)).abs() < 1e-12);
+        for k in 0..3 {
+            assert_eq!(m[4 * k + 3], pose["translation_mm"][k].as_f64().unwrap());
+        }
         // p_e lies on the laser plane, near the aim point at the standoff (257.5 mm) but moved
         // along the line by the pose jitter (≤ 3 mm and 1°).
         let pe = truth["edge_point_sensor_mm"]
@@ -174,18 +203,34 @@ fn dataset_layout_and_ground_truth() {
         );
         // The ideal profile crosses the pane and the table, and labels them (at a low scan
         // angle the far end of the fan passes beyond the table and misses).
-        let ideal = truth["ideal_profile"].as_array().unwrap();
-        assert!(ideal.len() > 320, "{} ideal points", ideal.len());
+        let ideal_path = ds.join(&line.directory).join("ideal_profile.csv");
+        let text = std::fs::read_to_string(&ideal_path).unwrap();
+        let ideal = glassscan::io::csv_read::CsvText::parse(&ideal_path, &text).unwrap();
+        assert_eq!(
+            ideal.header,
+            [
+                "ray",
+                "fan_angle_deg",
+                "x_mm",
+                "z_mm",
+                "object",
+                "label",
+                "part",
+                "glass"
+            ]
+        );
+        assert_eq!(
+            ideal.rows.len() as u64,
+            truth["ideal_points"].as_u64().unwrap()
+        );
+        assert!(ideal.rows.len() > 320, "{} ideal points", ideal.rows.len());
         for object in ["pane", "table"] {
-            assert!(ideal.iter().any(|p| p["object"] == object), "{object}");
+            assert!(ideal.rows.iter().any(|r| r.fields[4] == object), "{object}");
         }
         assert!(ideal
+            .rows
             .iter()
-            .any(|p| p["glass"] == true && p["part"] == "top_face"));
-        assert_eq!(
-            truth["profile_labels"].as_array().unwrap().len(),
-            line.valid_points
-        );
+            .any(|r| r.fields[7] == "true" && r.fields[6] == "top_face"));
         let ply =
             glassscan::io::ply::read_ply(&ds.join(&line.directory).join("points.ply")).unwrap();
         assert_eq!(ply.points.len(), line.valid_points);

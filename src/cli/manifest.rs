@@ -6,6 +6,7 @@ use std::time::Duration;
 use serde::Serialize;
 
 pub use crate::geometry::pose::PoseMmDeg;
+use crate::io::json::tidy_decimal;
 use crate::scan::simulate::PoseResult;
 use crate::scan::ScanConfig;
 use crate::scene::World;
@@ -151,10 +152,10 @@ impl Manifest {
             seed: trace.seed,
             trace: *trace,
             scan: ScanSummary {
-                scan_angle_deg: scan.scan_angle_rad.to_degrees(),
+                scan_angle_deg: tidy_decimal(scan.scan_angle_rad.to_degrees()),
                 poses: scan.poses,
-                standoff_mm: scan.standoff_m * 1e3,
-                exposure_ms: world.sensor.imager.exposure_s * 1e3,
+                standoff_mm: tidy_decimal(scan.standoff_m * 1e3),
+                exposure_ms: tidy_decimal(world.sensor.imager.exposure_s * 1e3),
             },
             sensor: world.sensor.clone(),
             mount: (&world.mount).into(),

@@ -6,7 +6,10 @@
 //! | `irradiance.exr` | irradiance (W/m², f32): `irradiance` (total) and `class.<path class>` layers |
 //! | `profile.csv` | the measured profile (sensor frame, mm), with the path label of each peak |
 //! | `points.ply` | the valid profile points in the base frame (mm), coloured by path label |
-//! | `ground_truth.json` | drawn parameters, poses, p_e, ideal profile, per-point labels |
+//! | `ground_truth.json` | drawn parameters, poses (mm/deg, 4 × 4 matrix, quaternion), p_e: one line of compact JSON |
+//! | `ideal_profile.csv` | the exact cross-section: first hit of each fan ray (sensor frame, mm), what it hit |
+//!
+//! The label of each measured point is the `label` column of `profile.csv`.
 //!
 //! Every file is written atomically, then read back for its size and SHA-256, which the
 //! manifest line records; the caller appends the line only after this returns, which is what
@@ -24,19 +27,22 @@ use super::manifest::ManifestLine;
 use super::sample::Sample;
 use super::DatasetError;
 use crate::geometry::pose::PoseMmDeg;
+use crate::io::json::tidy_decimal;
 use crate::io::ply::{write_ply, PointCloud};
+use crate::io::points_csv::{write_csv_table, CsvTable};
 use crate::io::{exr, json, png16, profile_csv};
 use crate::scan::bip::profile_in_base;
 use crate::scan::warnings::pose_warnings;
 use crate::sensor::path_class::PathClass;
 
 /// The file names inside a sample directory.
-pub const FILES: [&str; 5] = [
+pub const FILES: [&str; 6] = [
     "image.png",
     "irradiance.exr",
     "profile.csv",
     "points.ply",
     "ground_truth.json",
+    "ideal_profile.csv",
 ];
 
 /// The directory name of sample `index`.
@@ -51,23 +57,6 @@ pub fn parse_sample_dir_name(name: &str) -> Option<u64> {
         return None;
     }
     digits.parse().ok()
-}
-
-/// A valid point of the measured profile with its label.
-#[derive(Debug, Serialize)]
-pub struct LabelledPoint {
-    /// Index of the point in `profile.csv` (0-based, header not counted).
-    pub point: usize,
-    /// Image column of the peak.
-    pub column: usize,
-    /// Reflection slot 0…3.
-    pub reflection: u8,
-    /// x in the sensor frame (mm).
-    pub x_mm: f64,
-    /// z in the sensor frame (mm).
-    pub z_mm: f64,
-    /// Path class that dominated the peak (`None`: no light of any class, e.g. pure noise).
-    pub label: Option<PathClass>,
 }
 
 /// `ground_truth.json`.
@@ -85,6 +74,8 @@ pub struct GroundTruth<'a> {
     pub scan_angle_deg: f64,
     /// Exposure used (ms).
     pub exposure_ms: f64,
+    /// Laser wavelength (nm).
+    pub wavelength_nm: f64,
     /// Name of the target object.
     pub target: &'a str,
     /// True pose of the target T_BM in this sample.
@@ -101,12 +92,51 @@ pub struct GroundTruth<'a> {
     pub edge_point_mm: Option<[f64; 3]>,
     /// p_e in the sensor frame, (x, z) in mm (y = 0 up to rounding).
     pub edge_point_sensor_mm: Option<[f64; 2]>,
-    /// The ideal profile: first hit of each fan ray (sensor frame, mm), rays that miss omitted.
-    pub ideal_profile: &'a [IdealPoint],
-    /// Labels of the valid points of the measured profile.
-    pub profile_labels: Vec<LabelledPoint>,
+    /// Fan rays of the ideal profile that hit something (the rows of `ideal_profile.csv`).
+    pub ideal_points: usize,
     /// Files of the sample, relative to its directory.
-    pub files: [&'static str; 5],
+    pub files: [&'static str; 6],
+}
+
+/// `ideal_profile.csv`: one row per fan ray that hits something.
+fn ideal_table(ideal: &[IdealPoint]) -> CsvTable {
+    CsvTable {
+        columns: [
+            "ray",
+            "fan_angle_deg",
+            "x_mm",
+            "z_mm",
+            "object",
+            "label",
+            "part",
+            "glass",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows: ideal
+            .iter()
+            .map(|p| {
+                vec![
+                    p.ray.to_string(),
+                    p.fan_angle_deg.to_string(),
+                    p.x_mm.to_string(),
+                    p.z_mm.to_string(),
+                    p.object.clone(),
+                    serde_name(&p.label),
+                    serde_name(&p.part),
+                    p.glass.to_string(),
+                ]
+            })
+            .collect(),
+    }
+}
+
+/// The name a unit enum variant serialises to (the snake_case name the JSON files use).
+fn serde_name<T: Serialize>(value: &T) -> String {
+    match serde_json::to_value(value) {
+        Ok(serde_json::Value::String(s)) => s,
+        other => unreachable!("a unit enum variant serialises to a string, got {other:?}"),
+    }
 }
 
 /// Colour of a point labelled `label` in `points.ply`.
@@ -192,8 +222,9 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
         noise_seed: sample.draw.noise_seed,
         border_fraction: sample.draw.border_fraction,
         parameters: parameters.clone(),
-        scan_angle_deg: world.scan.scan_angle_rad.to_degrees(),
-        exposure_ms: world.sensor.imager.exposure_s * 1e3,
+        scan_angle_deg: tidy_decimal(world.scan.scan_angle_rad.to_degrees()),
+        exposure_ms: tidy_decimal(world.sensor.imager.exposure_s * 1e3),
+        wavelength_nm: tidy_decimal(world.sensor.laser.wavelength_m * 1e9),
         target: &world.objects[target.object].name,
         target_pose: (&sample.target_pose).into(),
         target_nominal_pose: (&target.nominal_pose).into(),
@@ -202,24 +233,11 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
         mount: (&world.mount).into(),
         edge_point_mm,
         edge_point_sensor_mm,
-        ideal_profile: &sample.ideal,
-        profile_labels: in_base
-            .iter()
-            .map(|(i, _)| {
-                let q = &r.profile.points[*i];
-                LabelledPoint {
-                    point: *i,
-                    column: q.column,
-                    reflection: q.reflection,
-                    x_mm: q.x_mm,
-                    z_mm: q.z_mm,
-                    label: q.label,
-                }
-            })
-            .collect(),
+        ideal_points: sample.ideal.len(),
         files: FILES,
     };
-    json::write_json_pretty(&dir.join(FILES[4]), &truth)?;
+    json::write_json_line(&dir.join(FILES[4]), &truth)?;
+    write_csv_table(&dir.join(FILES[5]), &ideal_table(&sample.ideal))?;
 
     let mut labels = BTreeMap::new();
     for (i, _) in &in_base {

@@ -88,22 +88,33 @@ mod tests {
     }
 }
 
-/// A pose as millimetres and degrees (fixed-axis x, y, z; R = Rz·Ry·Rx), the form every output
-/// file and report uses.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+/// A pose in the forms every output file and report gives it: millimetres and degrees
+/// (fixed-axis x, y, z; R = Rz·Ry·Rx, as scene files take it), a row-major 4 × 4 matrix and a
+/// unit quaternion, so that a reader needs no Euler convention.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct PoseMmDeg {
     /// Translation (mm).
     pub translation_mm: [f64; 3],
     /// Rotation (deg).
     pub rotation_deg: [f64; 3],
+    /// Row-major homogeneous matrix, translation in mm: p_parent = M · [p_child, 1]
+    /// (`numpy.array(m).reshape(4, 4)`).
+    pub matrix_mm: [f64; 16],
+    /// The rotation as a unit quaternion (w, x, y, z) with w ≥ 0 (scipy's `from_quat` takes
+    /// (x, y, z, w)).
+    pub quaternion_wxyz: [f64; 4],
 }
 
 impl From<&Pose> for PoseMmDeg {
     fn from(p: &Pose) -> Self {
         let (translation_mm, rotation_deg) = pose_to_mm_deg(p);
+        let q = p.rotation.quaternion();
+        let sign = if q.w < 0.0 { -1.0 } else { 1.0 };
         PoseMmDeg {
             translation_mm,
             rotation_deg,
+            matrix_mm: pose_to_matrix_mm(p),
+            quaternion_wxyz: [q.w, q.i, q.j, q.k].map(|v| sign * v),
         }
     }
 }

@@ -16,6 +16,30 @@ use serde::Serialize;
 use super::atomic::write_atomic;
 use super::FileError;
 
+/// A setting converted between units (ms → s → ms, deg → rad → deg) as the decimal the user
+/// typed: `x` rounded to 15 significant digits, so that `0.015000000000000001` prints as
+/// `0.015`. Every decimal of at most 15 digits survives the round trip through the nearest f64
+/// and back (IEEE 754 binary64 holds 15 decimal digits exactly), so a typed value comes back
+/// exactly; any other value moves by at most 5·10⁻¹⁵ of itself. For settings only: measured
+/// numbers are written as they are.
+pub fn tidy_decimal(x: f64) -> f64 {
+    if !x.is_finite() || x == 0.0 {
+        return x;
+    }
+    format!("{x:.14e}").parse().unwrap_or(x)
+}
+
+/// Writes `value` as compact JSON on one line (with a trailing newline) at `path`, atomically:
+/// one record per file that `pandas.read_json(path, lines=True)` reads as one row.
+pub fn write_json_line<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), FileError> {
+    let mut encoded = serde_json::to_vec(value).map_err(|source| FileError::JsonWrite {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    encoded.push(b'\n');
+    write_atomic(path, |w| w.write_all(&encoded))
+}
+
 /// Writes `value` as pretty-printed JSON (two-space indent, trailing newline) at `path`,
 /// atomically.
 pub fn write_json_pretty<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), FileError> {
@@ -42,6 +66,27 @@ pub fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, FileError> {
 mod tests {
     use super::*;
     use std::collections::BTreeMap;
+
+    #[test]
+    fn tidy_decimal_recovers_typed_settings_and_moves_others_by_under_5e15() {
+        // A scene's `exposure_ms = 0.015` is held as seconds and written back as ms.
+        assert_eq!(0.015_f64 * 1e-3 * 1e3, 0.015000000000000001);
+        assert_eq!(tidy_decimal(0.015_f64 * 1e-3 * 1e3), 0.015);
+        assert_eq!(tidy_decimal(45f64.to_radians().to_degrees()), 45.0);
+        assert_eq!(tidy_decimal(257.5e-3 * 1e3), 257.5);
+        for x in [
+            1.0 / 3.0,
+            std::f64::consts::PI,
+            1e-300,
+            -2.5e17,
+            123.456_789_012_345_67,
+        ] {
+            let t = tidy_decimal(x);
+            assert!(((t - x) / x).abs() <= 5e-15, "{x} → {t}");
+        }
+        assert_eq!(tidy_decimal(0.0), 0.0);
+        assert!(tidy_decimal(f64::NAN).is_nan());
+    }
 
     #[derive(Debug, PartialEq, serde::Serialize, serde::Deserialize)]
     struct Manifest {

@@ -18,7 +18,8 @@ use crate::limits::MAX_LENGTH_MM;
 pub struct CsvTable {
     /// Column names (the header).
     pub columns: Vec<String>,
-    /// Rows of already formatted fields, one per column (no commas or newlines inside).
+    /// Rows of already formatted fields, one per column; a field with a comma, a quote or a
+    /// line break is quoted as RFC 4180 says.
     pub rows: Vec<Vec<String>>,
 }
 
@@ -35,13 +36,27 @@ pub fn write_csv_table(path: &Path, table: &CsvTable) -> Result<(), FileError> {
             });
         }
     }
+    let line = |fields: &[String]| -> String {
+        let quoted: Vec<std::borrow::Cow<str>> = fields.iter().map(|f| quote(f)).collect();
+        quoted.join(",")
+    };
     write_atomic(path, |w| {
-        writeln!(w, "{}", table.columns.join(","))?;
+        writeln!(w, "{}", line(&table.columns))?;
         for r in &table.rows {
-            writeln!(w, "{}", r.join(","))?;
+            writeln!(w, "{}", line(r))?;
         }
         Ok(())
     })
+}
+
+/// `field` as a CSV field: as it is, or in double quotes with inner quotes doubled when it
+/// holds a comma, a quote or a line break (RFC 4180 §2).
+fn quote(field: &str) -> std::borrow::Cow<'_, str> {
+    if field.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", field.replace('"', "\"\"")).into()
+    } else {
+        field.into()
+    }
 }
 
 /// Reads the `x_mm,y_mm,z_mm` columns of a CSV file (mm, each within
@@ -123,6 +138,27 @@ mod tests {
             pts,
             vec![(2, [1.0 / 3.0, -2.5, 44.000001]), (4, [7.0, 8.0, 9.0])]
         );
+    }
+
+    #[test]
+    fn fields_with_commas_or_quotes_are_quoted_and_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        let table = CsvTable {
+            columns: vec!["name".into(), "x_mm".into(), "y_mm".into(), "z_mm".into()],
+            rows: vec![vec![
+                "pane, \"left\"".into(),
+                "1".into(),
+                "2".into(),
+                "3".into(),
+            ]],
+        };
+        write_csv_table(&path, &table).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, "name,x_mm,y_mm,z_mm\n\"pane, \"\"left\"\"\",1,2,3\n");
+        let csv = CsvText::parse(&path, &text).unwrap();
+        assert_eq!(csv.rows[0].fields[0], "pane, \"left\"");
+        assert_eq!(read_points_csv(&path).unwrap(), vec![(2, [1.0, 2.0, 3.0])]);
     }
 
     #[test]
