@@ -11,7 +11,7 @@ use serde_json::{json, Value};
 use super::manifest::PoseMmDeg;
 use crate::geometry::border::BorderCurve;
 use crate::io::json::write_json_pretty;
-use crate::io::ply::{write_ply, PointCloud};
+use crate::io::ply::{write_ply, PlyEncoding, PointCloud};
 use crate::io::points_csv::{write_csv_table, CsvTable};
 use crate::io::profile_csv::write_profile_csv;
 use crate::scan::bip::Bip;
@@ -162,6 +162,7 @@ pub fn write_run(
             NOMINAL_BORDER_COLOR,
             "blue: model border at the nominal pose",
         ),
+        PlyEncoding::BinaryLittleEndian,
     )?;
     let after = dir.join("registration_after.ply");
     match &estimate {
@@ -172,6 +173,7 @@ pub fn write_run(
                 ESTIMATE_BORDER_COLOR,
                 "green: model border at the estimated pose",
             ),
+            PlyEncoding::BinaryLittleEndian,
         )?,
         // No estimate: an earlier run's file would show a registration this one did not make.
         None if after.exists() => std::fs::remove_file(&after)

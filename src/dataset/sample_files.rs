@@ -5,7 +5,7 @@
 //! | `image.png` | sensor image, 16-bit PNG, DN << (16 − adc_bits) (the SDK's container alignment) |
 //! | `irradiance.exr` | irradiance (W/m², f32): `irradiance` (total) and `class.<path class>` layers |
 //! | `profile.csv` | the measured profile (sensor frame, mm), with the path label of each peak |
-//! | `points.ply` | the valid profile points in the base frame (mm), coloured by path label |
+//! | `points.ply` | the valid profile points in the base frame (mm), binary PLY: colour, `label` (path class number), `intensity` (DN) |
 //! | `ground_truth.json` | drawn parameters, poses (mm/deg, 4 × 4 matrix, quaternion), p_e: one line of compact JSON |
 //! | `ideal_profile.csv` | the exact cross-section: first hit of each fan ray (sensor frame, mm), what it hit |
 //!
@@ -28,7 +28,7 @@ use super::sample::Sample;
 use super::DatasetError;
 use crate::geometry::pose::PoseMmDeg;
 use crate::io::json::tidy_decimal;
-use crate::io::ply::{write_ply, PointCloud};
+use crate::io::ply::{write_ply, PlyEncoding, PointCloud};
 use crate::io::points_csv::{write_csv_table, CsvTable};
 use crate::io::{exr, json, png16, profile_csv};
 use crate::scan::bip::profile_in_base;
@@ -139,6 +139,14 @@ fn serde_name<T: Serialize>(value: &T) -> String {
     }
 }
 
+/// The `label` number of a point in `points.ply`: its path class's position in
+/// `PathClass::LABELS`, 255 for none.
+fn label_number(label: Option<PathClass>) -> u8 {
+    label
+        .and_then(|c| PathClass::LABELS.iter().position(|&l| l == c))
+        .map_or(255, |k| k as u8)
+}
+
 /// Colour of a point labelled `label` in `points.ply`.
 fn label_color(label: Option<PathClass>) -> [u8; 3] {
     match label {
@@ -194,13 +202,24 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
+            format!(
+                "label = path class number: {}; intensity = peak maximum (DN)",
+                PathClass::LABELS
+                    .iter()
+                    .map(|&c| format!("{} {}", label_number(Some(c)), c.name()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         ],
         ..PointCloud::default()
     };
     for (i, p) in &in_base {
-        cloud.push_colored([mm(p)], label_color(r.profile.points[*i].label));
+        let q = &r.profile.points[*i];
+        cloud.push_colored([mm(p)], label_color(q.label));
+        cloud.labels.push(label_number(q.label));
+        cloud.intensities.push(q.intensity);
     }
-    write_ply(&dir.join(FILES[3]), &cloud)?;
+    write_ply(&dir.join(FILES[3]), &cloud, PlyEncoding::BinaryLittleEndian)?;
 
     let parameters: BTreeMap<String, f64> = sample
         .draw

@@ -10,7 +10,8 @@
 //! - `json`: manifests and configurations.
 //! - `points_csv`: named-column CSV tables (BIPs) and the x_mm, y_mm, z_mm reader;
 //!   `csv_read`: every CSV read (the `csv` crate; separator sniffed, BOM, quotes).
-//! - `ply`: point clouds (ASCII PLY, x y z and optional colours) for Open3D and CloudCompare.
+//! - `ply`: point clouds (binary or ASCII PLY: x y z and optional colour, label, intensity) for
+//!   Open3D, CloudCompare and `plyfile`.
 //! - `atomic`: the one way files are written; `output_dir`: the one check before a run writes.
 //!
 //! Invariants:
