@@ -273,6 +273,55 @@ fn thread_count_does_not_change_a_byte() {
     assert_same_files(&tree(&out), &reference_tree());
 }
 
+#[test]
+fn ply_ascii_writes_the_same_cloud_as_text_and_a_resume_must_repeat_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    let args = [
+        "dataset",
+        SCENE,
+        "--count",
+        "1",
+        "--out",
+        s(&out),
+        "--seed",
+        "3",
+        "--photons",
+        "16384",
+        "--ply-ascii",
+    ];
+    let o = glassscan(&args, None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let ply = out.join("sample_000000/points.ply");
+    let text = std::fs::read_to_string(&ply).expect("an ASCII PLY is text");
+    assert!(
+        text.starts_with("ply\nformat ascii 1.0\n"),
+        "{}",
+        &text[..40]
+    );
+    let cloud = glassscan::io::ply::read_ply(&ply).unwrap();
+    assert!(!cloud.points.is_empty());
+    assert_eq!(cloud.labels.len(), cloud.points.len());
+    assert_eq!(cloud.intensities.len(), cloud.points.len());
+    // The same run without the flag is another run: refused, nothing touched.
+    let before = tree(&out);
+    let o = glassscan(
+        &args[..args.len() - 1]
+            .iter()
+            .copied()
+            .chain(["--resume"])
+            .collect::<Vec<_>>(),
+        None,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("ply_ascii true there, false here"),
+        "{}",
+        stderr(&o)
+    );
+    assert_same_files(&tree(&out), &before);
+}
+
 /// Waits until `manifest` holds at least one line, then kills `child` with SIGKILL; returns
 /// the number of lines it held.
 fn kill_after_first_sample(child: &mut Child, manifest: &Path) -> usize {

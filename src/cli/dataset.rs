@@ -39,6 +39,10 @@ pub struct DatasetArgs {
     /// Continue a killed run in DIR: keep its finished samples, redo the others.
     #[arg(long)]
     pub resume: bool,
+    /// Write `points.ply` as ASCII text instead of binary little-endian (3× larger; for
+    /// readers without binary PLY).
+    #[arg(long)]
+    pub ply_ascii: bool,
     /// Laser photons traced per sample (1000 to 2^40).
     #[arg(long, value_name = "N", default_value_t = 1 << 20)]
     pub photons: u64,
@@ -88,6 +92,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
         count: args.count,
         photons: args.photons,
         max_depth: args.transport.max_depth,
+        ply_ascii: args.ply_ascii,
         shard,
         out: &args.out,
         resume: args.resume,

@@ -237,6 +237,7 @@ mod tests {
             count: 6,
             photons: 4096,
             max_depth: 64,
+            ply_ascii: false,
         }
     }
 

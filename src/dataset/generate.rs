@@ -20,6 +20,7 @@ use super::sample_files::{sample_dir_name, write_sample};
 use super::scene_edit::SceneTemplate;
 use super::shard::Shard;
 use super::DatasetError;
+use crate::io::ply::PlyEncoding;
 
 /// Samples per worker thread in a batch: enough to keep threads busy when samples take
 /// different times, few enough to keep memory small.
@@ -39,6 +40,8 @@ pub struct DatasetRun<'a> {
     pub photons: u64,
     /// Longest photon path.
     pub max_depth: u32,
+    /// `points.ply` as ASCII instead of binary little-endian.
+    pub ply_ascii: bool,
     /// Which samples this process makes.
     pub shard: Shard,
     /// Output directory.
@@ -79,6 +82,15 @@ impl DatasetRun<'_> {
             count: self.count,
             photons: self.photons,
             max_depth: self.max_depth,
+            ply_ascii: self.ply_ascii,
+        }
+    }
+
+    fn ply_encoding(&self) -> PlyEncoding {
+        if self.ply_ascii {
+            PlyEncoding::Ascii
+        } else {
+            PlyEncoding::BinaryLittleEndian
         }
     }
 
@@ -132,7 +144,7 @@ impl DatasetRun<'_> {
                     let dir = self.out.join(sample_dir_name(i));
                     std::fs::create_dir_all(&dir)
                         .map_err(|e| DatasetError::io(&dir, "create the sample directory", e))?;
-                    write_sample(&dir, &sample)
+                    write_sample(&dir, &sample, self.ply_encoding())
                 })
                 .collect();
             // Record the batch in index order, up to the first failure.

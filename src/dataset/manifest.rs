@@ -47,6 +47,10 @@ pub struct RunInfo {
     pub photons: u64,
     /// Longest photon path, in surface interactions.
     pub max_depth: u32,
+    /// `points.ply` written as ASCII (`--ply-ascii`) instead of binary; absent (false) in run
+    /// files written before the flag existed.
+    #[serde(default)]
+    pub ply_ascii: bool,
 }
 
 impl RunInfo {
@@ -70,6 +74,11 @@ impl RunInfo {
             "max_depth",
             self.max_depth.to_string(),
             other.max_depth.to_string(),
+        );
+        check(
+            "ply_ascii",
+            self.ply_ascii.to_string(),
+            other.ply_ascii.to_string(),
         );
         if self.scene_toml != other.scene_toml {
             d.push(format!(
@@ -421,6 +430,7 @@ mod tests {
             count: 10,
             photons: 4096,
             max_depth: 64,
+            ply_ascii: false,
         };
         let moved = RunInfo {
             scene: "/elsewhere/a.toml".into(),

@@ -241,6 +241,7 @@ mod tests {
             count: 5,
             photons: 4096,
             max_depth: 64,
+            ply_ascii: false,
         }
     }
 

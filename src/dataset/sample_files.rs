@@ -170,8 +170,13 @@ fn mm(p: &Point3<f64>) -> [f64; 3] {
     [p.x * 1e3, p.y * 1e3, p.z * 1e3]
 }
 
-/// Writes the files of `sample` into `dir` (which must exist) and returns its manifest line.
-pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, DatasetError> {
+/// Writes the files of `sample` into `dir` (which must exist), `points.ply` in `ply`, and
+/// returns its manifest line.
+pub fn write_sample(
+    dir: &Path,
+    sample: &Sample,
+    ply: PlyEncoding,
+) -> Result<ManifestLine, DatasetError> {
     let world = &sample.prepared.world;
     let r = &sample.result;
     let adc_bits = world.sensor.imager.adc_bits;
@@ -219,7 +224,7 @@ pub fn write_sample(dir: &Path, sample: &Sample) -> Result<ManifestLine, Dataset
         cloud.labels.push(label_number(q.label));
         cloud.intensities.push(q.intensity);
     }
-    write_ply(&dir.join(FILES[3]), &cloud, PlyEncoding::BinaryLittleEndian)?;
+    write_ply(&dir.join(FILES[3]), &cloud, ply)?;
 
     let parameters: BTreeMap<String, f64> = sample
         .draw
