@@ -171,18 +171,11 @@ fn dataset_layout_and_ground_truth() {
         assert_eq!(truth["noise_seed"], line.seed);
         // Every pose also as a matrix and a quaternion that agree with each other.
         let pose = &truth["sensor_pose"];
-        let m: Vec<f64> = pose["matrix_mm"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect();
-        let q: Vec<f64> = pose["quaternion_wxyz"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect();
+        let floats = |key: &str| -> Vec<f64> {
+            let values = pose[key].as_array().unwrap().iter();
+            values.map(|v| v.as_f64().unwrap()).collect()
+        };
+        let (m, q) = (floats("matrix_mm"), floats("quaternion_wxyz"));
         let (w, x, y, z) = (q[0], q[1], q[2], q[3]);
         assert!(w >= 0.0 && (w * w + x * x + y * y + z * z - 1.0).abs() < 1e-12);
         // R[0][0] and R[1][2] from the quaternion (Shoemake).

@@ -32,19 +32,22 @@ pub fn tidy_decimal(x: f64) -> f64 {
 /// Writes `value` as compact JSON on one line (with a trailing newline) at `path`, atomically:
 /// one record per file that `pandas.read_json(path, lines=True)` reads as one row.
 pub fn write_json_line<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), FileError> {
-    let mut encoded = serde_json::to_vec(value).map_err(|source| FileError::JsonWrite {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    encoded.push(b'\n');
-    write_atomic(path, |w| w.write_all(&encoded))
+    write_encoded(path, serde_json::to_vec(value))
 }
 
 /// Writes `value` as pretty-printed JSON (two-space indent, trailing newline) at `path`,
 /// atomically.
 pub fn write_json_pretty<T: Serialize + ?Sized>(path: &Path, value: &T) -> Result<(), FileError> {
-    // Serialising to memory first means a serialisation error never leaves a temporary behind.
-    let mut encoded = serde_json::to_vec_pretty(value).map_err(|source| FileError::JsonWrite {
+    write_encoded(path, serde_json::to_vec_pretty(value))
+}
+
+/// Writes serialised JSON and a final newline at `path`, atomically. Serialising to memory
+/// first means a serialisation error never leaves a temporary behind.
+fn write_encoded(
+    path: &Path,
+    encoded: Result<Vec<u8>, serde_json::Error>,
+) -> Result<(), FileError> {
+    let mut encoded = encoded.map_err(|source| FileError::JsonWrite {
         path: path.to_path_buf(),
         source,
     })?;
