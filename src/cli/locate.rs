@@ -7,7 +7,7 @@ use clap::Args;
 use serde_json::{json, Value};
 
 use super::{flags, locate_out, progress, CliError};
-use crate::geometry::pose::{pose_from_mm_deg, pose_to_mm_deg};
+use crate::geometry::pose::{pose_from_mm_deg, PoseMmDeg};
 use crate::localise::metrics::Stats;
 use crate::scan::bip::BipRule;
 use crate::scan::errors::ErrorModel;
@@ -101,7 +101,12 @@ struct Resolved {
 }
 
 fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
-    let mut world = scene::load(&args.scene).map_err(CliError::input)?;
+    let world = scene::load(&args.scene).map_err(CliError::input)?;
+    resolve_on(world, args)
+}
+
+/// [`resolve`] on a scene already loaded (`args.scene` names it in messages).
+fn resolve_on(mut world: World, args: &LocateArgs) -> Result<Resolved, CliError> {
     let mut scan = world.scan;
     if let Some(n) = args.poses {
         scan.poses = flags::poses("poses", n, 3, " (ICP needs three points)")?;
@@ -174,7 +179,7 @@ fn summary_json(report: &LocateReport, world: &World) -> Value {
             r.converged,
             r.degenerate,
             r.iterations,
-            Some(pose_to_mm_deg(&r.pose)),
+            Some(PoseMmDeg::from(&r.pose)),
             r.weak_directions.len(),
         ),
         Err(_) => (false, false, 0, None, 0),
@@ -197,7 +202,7 @@ fn summary_json(report: &LocateReport, world: &World) -> Value {
         "weak_directions": weak,
         "iterations": iterations,
         "registration_error": report.registration.as_ref().err().map(|e| e.to_string()),
-        "estimate": estimate.map(|(t, r)| json!({"translation_mm": t, "rotation_deg": r})),
+        "estimate": estimate,
         "timings_s": {"scanning": report.timings_s.0, "pose_estimation": report.timings_s.1},
     })
 }
@@ -205,9 +210,30 @@ fn summary_json(report: &LocateReport, world: &World) -> Value {
 /// Runs `glassscan locate`.
 pub fn run(args: LocateArgs) -> Result<(), CliError> {
     let r = resolve(&args)?;
-    let glass = run_on(&r.world, &r, args.json, "poses")?;
+    let (summary, glass, opaque) = execute(&args, &r)?;
+    if args.json {
+        super::print_json(&summary)?;
+    } else {
+        print_tables(&glass, opaque.as_ref());
+    }
+    Ok(())
+}
+
+/// `glassscan locate` on the scene `world` (loaded by the caller; `args.scene` names it),
+/// without printing: the `--json` summary, and the files of `--out` if it is given.
+pub fn summary_on(world: World, args: &LocateArgs) -> Result<Value, CliError> {
+    let r = resolve_on(world, args)?;
+    Ok(execute(args, &r)?.0)
+}
+
+/// The pipeline, the summary and the files of `--out`.
+fn execute(
+    args: &LocateArgs,
+    r: &Resolved,
+) -> Result<(Value, LocateReport, Option<LocateReport>), CliError> {
+    let glass = run_on(&r.world, r, args.json, "poses")?;
     let opaque = match &r.opaque {
-        Some(world) => Some(run_on(world, &r, args.json, "poses (opaque copy)")?),
+        Some(world) => Some(run_on(world, r, args.json, "poses (opaque copy)")?),
         None => None,
     };
     let opaque_summary = opaque
@@ -235,12 +261,7 @@ pub fn run(args: LocateArgs) -> Result<(), CliError> {
                 .map_err(CliError::internal)?;
         }
     }
-    if args.json {
-        super::print_json(&summary)?;
-    } else {
-        print_tables(&glass, opaque.as_ref());
-    }
-    Ok(())
+    Ok((summary, glass, opaque))
 }
 
 /// Per-pose lines and the paper's Tables 2–4, on stderr.

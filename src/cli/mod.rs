@@ -5,6 +5,7 @@
 
 mod check;
 mod dataset;
+pub mod embed;
 mod flags;
 mod locate;
 mod locate_out;

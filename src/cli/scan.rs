@@ -74,27 +74,48 @@ struct RunConfig {
     force: bool,
 }
 
-fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
-    let mut world = scene::load(&args.scene).map_err(CliError::input)?;
+/// The overrides of a scene's `[scan]` and `[sensor]` settings that `scan` takes as flags
+/// (and the Python package as keywords), as typed: [`apply_overrides`] checks them.
+#[derive(Clone, Debug, Default)]
+pub struct SceneOverrides {
+    /// `--scan-angle-deg`.
+    pub scan_angle_deg: Option<f64>,
+    /// `--poses`.
+    pub poses: Option<usize>,
+    /// `--exposure-ms`.
+    pub exposure_ms: Option<f64>,
+    /// `--threshold`: a DN value or `auto`.
+    pub threshold: Option<String>,
+    /// `--peak-select`.
+    pub peak_select: Option<String>,
+    /// `--sensor-kind`: `cmos` or `ccd`.
+    pub sensor_kind: Option<String>,
+}
+
+/// Applies `overrides` to `world` (its `scan` settings included), each checked with the
+/// message its flag gives (exit code 2).
+pub fn apply_overrides(
+    world: &mut scene::World,
+    overrides: &SceneOverrides,
+) -> Result<(), CliError> {
     let bad = flags::bad_flag;
-    let mut scan = world.scan;
-    if let Some(a) = args.scan_angle_deg {
-        scan.scan_angle_rad = flags::scan_angle_rad(a)?;
+    if let Some(a) = overrides.scan_angle_deg {
+        world.scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
-    if let Some(n) = args.poses {
-        scan.poses = flags::poses("poses", n, 1, "")?;
+    if let Some(n) = overrides.poses {
+        world.scan.poses = flags::poses("poses", n, 1, "")?;
     }
-    if let Some(e) = args.exposure_ms {
+    if let Some(e) = overrides.exposure_ms {
         world.sensor.imager.exposure_s = flags::exposure_s(e)?;
     }
     let max_dn = world.sensor.imager.max_dn();
-    if let Some(t) = &args.threshold {
+    if let Some(t) = &overrides.threshold {
         world.sensor.firmware.threshold = flags::threshold(t, max_dn)?;
     }
-    if let Some(m) = &args.peak_select {
+    if let Some(m) = &overrides.peak_select {
         world.sensor.firmware.peak_select = flags::peak_select(m)?;
     }
-    if let Some(k) = &args.sensor_kind {
+    if let Some(k) = &overrides.sensor_kind {
         world.sensor.imager.kind = match k.to_ascii_lowercase().as_str() {
             "cmos" => SensorKind::Cmos,
             "ccd" => SensorKind::Ccd,
@@ -106,6 +127,21 @@ fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
             }
         };
     }
+    Ok(())
+}
+
+fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
+    let mut world = scene::load(&args.scene).map_err(CliError::input)?;
+    let overrides = SceneOverrides {
+        scan_angle_deg: args.scan_angle_deg,
+        poses: args.poses,
+        exposure_ms: args.exposure_ms,
+        threshold: args.threshold.clone(),
+        peak_select: args.peak_select.clone(),
+        sensor_kind: args.sensor_kind.clone(),
+    };
+    apply_overrides(&mut world, &overrides)?;
+    let scan = world.scan;
     flags::photons(args.photons)?;
     args.transport.check()?;
     if world.target.is_none() {

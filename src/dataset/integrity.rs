@@ -152,6 +152,21 @@ impl fmt::Display for Damage {
 /// Checks the sample of `line` (its directory relative to `dataset_dir`, or absolute) against
 /// its file records: every file present, of its recorded size and hash. Empty when intact.
 pub fn check_sample(dataset_dir: &Path, line: &ManifestLine) -> Vec<Damage> {
+    check_sample_files(dataset_dir, line, Depth::Hashes)
+}
+
+/// How far [`check_sample_files`] looks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Depth {
+    /// Every file present with its recorded size (a `stat` per file: what a loader can afford
+    /// on every open).
+    Sizes,
+    /// Sizes, and every file's SHA-256 (reads every byte).
+    Hashes,
+}
+
+/// [`check_sample`] to `depth`.
+pub fn check_sample_files(dataset_dir: &Path, line: &ManifestLine, depth: Depth) -> Vec<Damage> {
     let dir = dataset_dir.join(&line.directory);
     if !dir.is_dir() {
         return vec![Damage::DirectoryMissing { path: dir }];
@@ -179,6 +194,9 @@ pub fn check_sample(dataset_dir: &Path, line: &ManifestLine) -> Vec<Damage> {
                 recorded: record.bytes,
                 found,
             });
+            continue;
+        }
+        if depth == Depth::Sizes {
             continue;
         }
         match hash_file(&path) {
@@ -251,6 +269,11 @@ mod tests {
         std::fs::write(dir.join("a"), "alp").unwrap(); // truncated
         std::fs::write(dir.join("b"), "BRAVO").unwrap(); // same size, other bytes
         std::fs::remove_file(dir.join("c")).unwrap();
+        // A size check sees the truncation and the missing file, not the same-size rewrite.
+        let sizes = check_sample_files(root.path(), &l, Depth::Sizes);
+        assert_eq!(sizes.len(), 2, "{sizes:?}");
+        assert!(matches!(sizes[0], Damage::Size { .. }));
+        assert!(matches!(sizes[1], Damage::FileMissing { .. }));
         let damage = check_sample(root.path(), &l);
         assert_eq!(
             damage,

@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::integrity::check_sample;
-use super::manifest::{for_each_line, RunInfo, MANIFEST, RUN_FILE};
+use super::integrity::{check_sample_files, Depth};
+use super::manifest::{for_each_line, ManifestLine, RunInfo, MANIFEST, RUN_FILE};
 use super::shard::Shard;
 use super::DatasetError;
 use crate::io::json;
@@ -54,6 +54,15 @@ impl VerifyReport {
 /// Checks the dataset in `dir` (see the module documentation). Errors only when `dir` is not a
 /// readable dataset; damage is reported in the result.
 pub fn verify_dataset(dir: &Path) -> Result<VerifyReport, DatasetError> {
+    verify_dataset_lines(dir, Depth::Hashes).map(|(report, _)| report)
+}
+
+/// [`verify_dataset`] to `depth`, also returning the run file and every manifest line read, in
+/// manifest order (a merged manifest is sorted by sample index): what a loader indexes.
+pub fn verify_dataset_lines(
+    dir: &Path,
+    depth: Depth,
+) -> Result<(VerifyReport, DatasetIndex), DatasetError> {
     if !dir.is_dir() {
         return Err(DatasetError::NotADataset {
             path: dir.to_path_buf(),
@@ -97,6 +106,7 @@ pub fn verify_dataset(dir: &Path) -> Result<VerifyReport, DatasetError> {
         manifests: manifests.clone(),
         ..VerifyReport::default()
     };
+    let mut lines = Vec::new();
     let mut seen = vec![0u64; info.count.div_ceil(64) as usize];
     for manifest in &manifests {
         for_each_line(manifest, |number, line| {
@@ -118,11 +128,12 @@ pub fn verify_dataset(dir: &Path) -> Result<VerifyReport, DatasetError> {
             report.samples += 1;
             report.files += line.files.len() as u64;
             report.bytes += line.files.iter().map(|f| f.bytes).sum::<u64>();
-            let damage = check_sample(dir, &line);
+            let damage = check_sample_files(dir, &line, depth);
             if !damage.is_empty() {
                 report.damaged_samples += 1;
                 report.damage.extend(damage.iter().map(ToString::to_string));
             }
+            lines.push(line);
             Ok(())
         })?;
     }
@@ -136,5 +147,14 @@ pub fn verify_dataset(dir: &Path) -> Result<VerifyReport, DatasetError> {
     }
     report.duplicated.sort_unstable();
     report.duplicated.dedup();
-    Ok(report)
+    Ok((report, DatasetIndex { run: info, lines }))
+}
+
+/// A dataset's run file and manifest lines.
+#[derive(Clone, Debug)]
+pub struct DatasetIndex {
+    /// `run.json`.
+    pub run: RunInfo,
+    /// Every manifest line, in manifest order.
+    pub lines: Vec<ManifestLine>,
 }

@@ -159,6 +159,35 @@ pub fn read_png16(path: &Path) -> Result<Image<u16>, FileError> {
     })
 }
 
+/// Reads a sensor image written by [`write_sensor_png16`] as digital numbers: the samples
+/// shifted down by 16 − `sBIT` (`sBIT` absent: as stored, every bit significant).
+pub fn read_sensor_png16(path: &Path) -> Result<Image<u16>, FileError> {
+    let mut img = read_png16(path)?;
+    let bits = significant_bits(path)?.unwrap_or(16).clamp(1, 16);
+    let shift = 16 - u32::from(bits);
+    if shift > 0 {
+        img.data.iter_mut().for_each(|v| *v >>= shift);
+    }
+    Ok(img)
+}
+
+/// The greyscale `sBIT` value of the PNG at `path`, if it has one.
+fn significant_bits(path: &Path) -> Result<Option<u8>, FileError> {
+    let file = File::open(path).map_err(|e| FileError::io(path, "open", e))?;
+    // read_info stops at the first image data chunk, after sBIT (PNG 1.2 §4.2.6).
+    let reader = png::Decoder::new(BufReader::new(file))
+        .read_info()
+        .map_err(|e| FileError::Png {
+            path: path.to_path_buf(),
+            expected: "a valid PNG file",
+            source: ImageError::Decoding(image::error::DecodingError::new(
+                ImageFormatHint::Exact(ImageFormat::Png),
+                e,
+            )),
+        })?;
+    Ok(reader.info().sbit.as_ref().and_then(|b| b.first().copied()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,6 +263,17 @@ mod tests {
         let dn: Vec<u16> = read.data.iter().map(|v| v >> 6).collect();
         assert_eq!(dn, img.data);
         assert!(read.data.iter().all(|v| v & 0x3f == 0));
+        // read_sensor_png16 undoes the alignment by the file's own sBIT.
+        assert_eq!(read_sensor_png16(&path).unwrap(), img);
+        for bits in [8, 12, 16] {
+            let max = ((1u32 << bits) - 1) as u16;
+            img.data.copy_from_slice(&[0, 1, 2, max / 2, max - 1, max]);
+            write_sensor_png16(&path, &img, bits).unwrap();
+            assert_eq!(read_sensor_png16(&path).unwrap(), img, "{bits} bits");
+        }
+        // Without sBIT every bit is significant.
+        write_png16(&path, &gradient()).unwrap();
+        assert_eq!(read_sensor_png16(&path).unwrap(), gradient());
     }
 
     #[test]
