@@ -141,22 +141,9 @@ pub fn pose_matrix<'py>(py: Python<'py>, pose: &Pose) -> Bound<'py, PyArray2<f64
 /// where the file has them.
 pub fn point_cloud<'py>(py: Python<'py>, cloud: &PointCloud) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let n = cloud.points.len();
-    let flat: Vec<f64> = cloud.points.iter().flatten().copied().collect();
-    d.set_item(
-        "points",
-        Array2::from_shape_vec((n, 3), flat)
-            .expect("three per point")
-            .into_pyarray(py),
-    )?;
+    d.set_item("points", triples(py, &cloud.points))?;
     if !cloud.colors.is_empty() {
-        let flat: Vec<u8> = cloud.colors.iter().flatten().copied().collect();
-        d.set_item(
-            "colors",
-            Array2::from_shape_vec((n, 3), flat)
-                .expect("three per point")
-                .into_pyarray(py),
-        )?;
+        d.set_item("colors", triples(py, &cloud.colors))?;
     }
     if !cloud.labels.is_empty() {
         d.set_item("label", cloud.labels.clone().into_pyarray(py))?;
@@ -165,4 +152,15 @@ pub fn point_cloud<'py>(py: Python<'py>, cloud: &PointCloud) -> PyResult<Bound<'
         d.set_item("intensity", cloud.intensities.clone().into_pyarray(py))?;
     }
     Ok(d)
+}
+
+/// One row of three per item (N × 3).
+fn triples<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    items: &[[T; 3]],
+) -> Bound<'py, PyArray2<T>> {
+    let flat: Vec<T> = items.iter().flatten().copied().collect();
+    Array2::from_shape_vec((items.len(), 3), flat)
+        .expect("three per item")
+        .into_pyarray(py)
 }

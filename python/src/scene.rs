@@ -28,26 +28,6 @@ pub struct Scene {
     poses: Vec<ScanPose>,
 }
 
-/// The overrides as `scan`'s flags take them.
-#[allow(clippy::too_many_arguments)]
-fn overrides(
-    scan_angle_deg: Option<f64>,
-    poses: Option<usize>,
-    exposure_ms: Option<f64>,
-    threshold: Option<String>,
-    peak_select: Option<String>,
-    sensor_kind: Option<String>,
-) -> SceneOverrides {
-    SceneOverrides {
-        scan_angle_deg,
-        poses,
-        exposure_ms,
-        threshold,
-        peak_select,
-        sensor_kind,
-    }
-}
-
 impl Scene {
     fn new(py: Python<'_>, mut world: World, overrides: &SceneOverrides) -> PyResult<Scene> {
         embed::apply_overrides(&mut world, overrides).map_err(to_py)?;
@@ -70,13 +50,15 @@ impl Scene {
 
 #[pymethods]
 impl Scene {
-    /// Loads the scene file at `path`; the keywords override its settings as `scan`'s flags do.
+    /// The scene file at `path`, or the TOML `text` (then `path` names it in messages and
+    /// anchors relative mesh paths); the keywords override its settings as `scan`'s flags do.
     #[staticmethod]
-    #[pyo3(signature = (path, *, scan_angle_deg=None, poses=None, exposure_ms=None, threshold=None, peak_select=None, sensor_kind=None))]
+    #[pyo3(signature = (path, text=None, *, scan_angle_deg=None, poses=None, exposure_ms=None, threshold=None, peak_select=None, sensor_kind=None))]
     #[allow(clippy::too_many_arguments)]
-    fn load(
+    fn open(
         py: Python<'_>,
         path: PathBuf,
+        text: Option<&str>,
         scan_angle_deg: Option<f64>,
         poses: Option<usize>,
         exposure_ms: Option<f64>,
@@ -84,43 +66,20 @@ impl Scene {
         peak_select: Option<String>,
         sensor_kind: Option<String>,
     ) -> PyResult<Scene> {
-        let world = scene::load(&path).map_err(input)?;
-        let o = overrides(
+        let world = match text {
+            None => scene::load(&path),
+            Some(text) => scene::load_str(&path, text),
+        }
+        .map_err(input)?;
+        let overrides = SceneOverrides {
             scan_angle_deg,
             poses,
             exposure_ms,
             threshold,
             peak_select,
             sensor_kind,
-        );
-        Scene::new(py, world, &o)
-    }
-
-    /// A scene from TOML text; `path` names it in messages and anchors relative mesh paths.
-    #[staticmethod]
-    #[pyo3(signature = (text, *, path=PathBuf::from("<string>.toml"), scan_angle_deg=None, poses=None, exposure_ms=None, threshold=None, peak_select=None, sensor_kind=None))]
-    #[allow(clippy::too_many_arguments)]
-    fn from_toml(
-        py: Python<'_>,
-        text: &str,
-        path: PathBuf,
-        scan_angle_deg: Option<f64>,
-        poses: Option<usize>,
-        exposure_ms: Option<f64>,
-        threshold: Option<String>,
-        peak_select: Option<String>,
-        sensor_kind: Option<String>,
-    ) -> PyResult<Scene> {
-        let world = scene::load_str(&path, text).map_err(input)?;
-        let o = overrides(
-            scan_angle_deg,
-            poses,
-            exposure_ms,
-            threshold,
-            peak_select,
-            sensor_kind,
-        );
-        Scene::new(py, world, &o)
+        };
+        Scene::new(py, world, &overrides)
     }
 
     /// The scene file (or the name given to `from_toml`).

@@ -10,21 +10,10 @@ class InputError(GlassscanError): ...
 
 class Scene:
     @staticmethod
-    def load(
+    def open(
         path: str,
+        text: Optional[str] = ...,
         *,
-        scan_angle_deg: Optional[float] = ...,
-        poses: Optional[int] = ...,
-        exposure_ms: Optional[float] = ...,
-        threshold: Optional[str] = ...,
-        peak_select: Optional[str] = ...,
-        sensor_kind: Optional[str] = ...,
-    ) -> Scene: ...
-    @staticmethod
-    def from_toml(
-        text: str,
-        *,
-        path: str = ...,
         scan_angle_deg: Optional[float] = ...,
         poses: Optional[int] = ...,
         exposure_ms: Optional[float] = ...,

@@ -107,9 +107,17 @@ class Scene:
             InputError: the file, a field or an override is not what it should be; the
                 message names it (file:line:column for the scene file).
         """
+        return cls._open(
+            path, None, scan_angle_deg, poses, exposure_ms, threshold, peak_select, sensor_kind
+        )
+
+    @classmethod
+    def _open(cls, path, text, scan_angle_deg, poses, exposure_ms, threshold, peak_select,
+              sensor_kind) -> "Scene":
         return cls(
-            _native.Scene.load(
+            _native.Scene.open(
                 os.fspath(path),
+                text,
                 scan_angle_deg=scan_angle_deg,
                 poses=poses,
                 exposure_ms=exposure_ms,
@@ -134,17 +142,8 @@ class Scene:
     ) -> "Scene":
         """A scene from TOML text. ``path`` names it in messages and is where relative
         mesh paths start from (its directory); the keywords are those of :meth:`load`."""
-        return cls(
-            _native.Scene.from_toml(
-                text,
-                path=os.fspath(path),
-                scan_angle_deg=scan_angle_deg,
-                poses=poses,
-                exposure_ms=exposure_ms,
-                threshold=_threshold(threshold),
-                peak_select=peak_select,
-                sensor_kind=sensor_kind,
-            )
+        return cls._open(
+            path, text, scan_angle_deg, poses, exposure_ms, threshold, peak_select, sensor_kind
         )
 
     @property
