@@ -666,3 +666,62 @@ fn locate_force_with_fewer_poses_leaves_only_its_own_profiles() {
         ]
     );
 }
+
+#[test]
+fn a_mesh_of_implausible_size_is_warned_about_on_stderr_and_in_the_manifest() {
+    // flat_panel with a unit-cube glTF read at 20 m (as a file in other units would be), far
+    // below the table where no light reaches it.
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("scenes/flat_panel.toml")).unwrap();
+    let object = format!(
+        "[[objects]]\nname = \"part\"\nmaterial = \"soda_lime\"\n\
+         mesh = {{ file = \"{}\", scale = 20 }}\npose = {{ translation_mm = [0, 0, -60000] }}\n\n",
+        root.join("scenes/meshes/cube.gltf").display()
+    );
+    let at = text.find("[[objects]]").unwrap();
+    let scene = tmp.path().join("big_mesh.toml");
+    std::fs::write(&scene, format!("{}{object}{}", &text[..at], &text[at..])).unwrap();
+    let out = out_dir(&tmp, "scan");
+    let o = glassscan(&[
+        "scan",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--poses",
+        "1",
+        "--photons",
+        "1000",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("warning: ") && l.contains("cube.gltf"))
+        .unwrap_or_else(|| panic!("no mesh warning in:\n{err}"));
+    assert!(line.contains("big_mesh.toml: objects[0].mesh"), "{line}");
+    assert!(line.contains("set `scale = 0.001`"), "{line}");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let recorded = manifest["scene_warnings"]
+        .as_array()
+        .expect("scene_warnings");
+    assert_eq!(recorded.len(), 1);
+    assert!(line.ends_with(recorded[0].as_str().unwrap()), "{line}");
+    // The shipped scenes load without any.
+    let o = glassscan(&[
+        "scan",
+        "scenes/flat_panel.toml",
+        "--out",
+        s(&out_dir(&tmp, "plain")),
+        "--poses",
+        "1",
+        "--photons",
+        "1000",
+    ]);
+    assert!(
+        !stderr(&o).contains("warning: scenes/flat_panel.toml"),
+        "{}",
+        stderr(&o)
+    );
+}

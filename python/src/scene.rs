@@ -88,6 +88,12 @@ impl Scene {
         self.world().source.clone()
     }
 
+    /// The scene loader's warnings (e.g. a mesh of implausible size, naming `scale`).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.world().warnings.clone()
+    }
+
     /// The target object's name, or None.
     #[getter]
     fn target(&self) -> Option<String> {

@@ -71,6 +71,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
             .unwrap_or(Shard::ALL),
     };
     let template = SceneTemplate::load(&args.scene).map_err(CliError::input)?;
+    super::print_scene_warnings(&template.world);
     if template.world.target.is_none() {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `dataset` needs a panel whose border it scans",

@@ -14,7 +14,6 @@ use crate::scan::errors::ErrorModel;
 use crate::scan::locate::{locate_world, LocateReport, LocateSettings};
 use crate::scan::ScanConfig;
 use crate::scene::world::{World, OPAQUE_COPY_ALBEDO};
-use crate::scene::{self};
 use crate::transport::TraceSettings;
 
 /// Arguments of `glassscan locate`.
@@ -101,7 +100,7 @@ struct Resolved {
 }
 
 fn resolve(args: &LocateArgs) -> Result<Resolved, CliError> {
-    let world = scene::load(&args.scene).map_err(CliError::input)?;
+    let world = super::load_scene(&args.scene)?;
     resolve_on(world, args)
 }
 

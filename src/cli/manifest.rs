@@ -119,6 +119,9 @@ pub struct Manifest {
     pub target_nominal_pose: Option<PoseMmDeg>,
     /// The poses.
     pub poses: Vec<PoseEntry>,
+    /// The scene loader's warnings (absent when there are none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub scene_warnings: Vec<String>,
     /// Wall-clock time of the run (s).
     pub elapsed_s: f64,
 }
@@ -162,6 +165,7 @@ impl Manifest {
             target_pose: target.map(|t| (&world.objects[t.object].pose).into()),
             target_nominal_pose: target.map(|t| (&t.nominal_pose).into()),
             poses,
+            scene_warnings: world.warnings.clone(),
             elapsed_s: elapsed.as_secs_f64(),
         }
     }

@@ -127,6 +127,21 @@ impl CliError {
     }
 }
 
+/// Loads the scene file at `path` (bad input: exit code 2) and prints the loader's warnings
+/// on stderr.
+fn load_scene(path: &std::path::Path) -> Result<crate::scene::World, CliError> {
+    let world = crate::scene::load(path).map_err(CliError::input)?;
+    print_scene_warnings(&world);
+    Ok(world)
+}
+
+/// The scene loader's warnings, one `warning:` line each on stderr.
+fn print_scene_warnings(world: &crate::scene::World) {
+    for w in &world.warnings {
+        eprintln!("warning: {}: {w}", world.source.display());
+    }
+}
+
 /// Prints `value` on stdout as pretty JSON (the `--json` output of every command).
 fn print_json(value: &impl serde::Serialize) -> Result<(), CliError> {
     println!(

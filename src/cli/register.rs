@@ -30,7 +30,7 @@ pub struct RegisterArgs {
 
 /// Runs `glassscan register`.
 pub fn run(args: RegisterArgs) -> Result<(), CliError> {
-    let world = scene::load(&args.model_scene).map_err(CliError::input)?;
+    let world = super::load_scene(&args.model_scene)?;
     let rows = read_points_csv(&args.bips).map_err(CliError::input)?;
     let (result, reg) = summary(&world, &args.model_scene, &args.bips, &rows)?;
     if args.json {

@@ -131,7 +131,7 @@ pub fn apply_overrides(
 }
 
 fn resolve(args: ScanArgs) -> Result<RunConfig, CliError> {
-    let mut world = scene::load(&args.scene).map_err(CliError::input)?;
+    let mut world = super::load_scene(&args.scene)?;
     let overrides = SceneOverrides {
         scan_angle_deg: args.scan_angle_deg,
         poses: args.poses,

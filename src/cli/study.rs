@@ -110,7 +110,7 @@ fn sibling(bare: &Path, variant: Variant) -> PathBuf {
 
 /// Loads a variant's scene and prepares it for tracing.
 fn setup(path: &Path, variant: Variant) -> Result<(VariantSetup, scene::World), CliError> {
-    let world = scene::load(path).map_err(CliError::input)?;
+    let world = super::load_scene(path)?;
     let Some(border_b) = world.true_border_in_base() else {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `study scan-angle` needs a panel whose border it scans",

@@ -13,7 +13,6 @@ use super::{flags, progress, CliError};
 use crate::io::{atomic::write_atomic, json as json_file, output_dir};
 use crate::plot::heat_map::HeatMap;
 use crate::plot::save;
-use crate::scene;
 use crate::sensor::SensorHead;
 use crate::study::as_typed;
 use crate::study::grid::{threshold_name, SweepGrid};
@@ -71,7 +70,7 @@ pub fn run(args: SweepArgs) -> Result<(), CliError> {
     }
     flags::photons(args.light.photons)?;
 
-    let world = scene::load(&args.scene).map_err(CliError::input)?;
+    let world = super::load_scene(&args.scene)?;
     let max_dn = world.sensor.imager.max_dn();
     let thresholds = match &args.threshold {
         Some(l) => flags::list("threshold", l, |t| flags::threshold(t, max_dn))?,

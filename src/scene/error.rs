@@ -786,9 +786,38 @@ poses = 4
             .map(|p| p.coords)
             .sum::<nalgebra::Vector3<f64>>()
             / 8.0;
+        // In the file, (1, 0, 2): glTF's +Y up turned to +Z up, (x, y, z) ↦ (x, −z, y).
         assert!(
-            (centre - nalgebra::Vector3::new(0.001, 0.0, 0.002)).norm() < 1e-9,
+            (centre - nalgebra::Vector3::new(0.001, -0.002, 0.0)).norm() < 1e-9,
             "{centre:?}"
+        );
+        assert!(world.warnings.is_empty(), "{:?}", world.warnings);
+        // up_axis = "z" takes the file's axes as they are.
+        let z_up = load_text(&BASE.replace(
+            "box = { size_mm = [1000, 800, 20] }",
+            "mesh = { file = \"meshes/cube.gltf\", scale = 0.001, up_axis = \"z\" }",
+        ))
+        .unwrap_or_else(|e| panic!("{e}"));
+        let mut centre_z = nalgebra::Vector3::zeros();
+        for p in &z_up.objects[1].mesh.positions {
+            centre_z += p.coords / 8.0;
+        }
+        assert!(
+            (centre_z - nalgebra::Vector3::new(0.001, 0.0, 0.002)).norm() < 1e-9,
+            "{centre_z:?}"
+        );
+        // The conversion is a rotation: outward normals stay outward, lengths stay.
+        for (a, b) in mesh.positions.iter().zip(&z_up.objects[1].mesh.positions) {
+            assert_eq!((a.x, a.y, a.z), (b.x, -b.z, b.y));
+        }
+        let m = error_for(
+            "box = { size_mm = [1000, 800, 20] }",
+            "mesh = { file = \"meshes/cube.gltf\", up_axis = \"x\" }",
+        );
+        assert_message(&m, "bad.toml:22:");
+        assert!(
+            m.contains("up_axis") || m.contains("unknown variant"),
+            "{m}"
         );
         let m = error_for(
             "box = { size_mm = [1000, 800, 20] }",
@@ -928,6 +957,32 @@ poses = 4
             &m,
             "bad.toml:18:34: objects[0].panel.edge.arrissed.bevel_mm ",
         );
+    }
+
+    #[test]
+    fn a_mesh_of_implausible_size_is_loaded_with_a_warning_that_names_scale() {
+        let load = |scale: &str| {
+            load_text(&BASE.replace(
+                "box = { size_mm = [1000, 800, 20] }",
+                &format!("mesh = {{ file = \"meshes/cube.gltf\", scale = {scale} }}"),
+            ))
+            .unwrap_or_else(|e| panic!("{e}"))
+        };
+        // A unit cube: 1 m (plausible), 1 mm (plausible), 20 m and 0.1 mm (not). (Past
+        // 100 m from the origin a mesh is refused: `limits`.)
+        assert!(load("1").warnings.is_empty());
+        assert!(load("0.001").warnings.is_empty());
+        let big = load("20").warnings;
+        assert_eq!(big.len(), 1, "{big:?}");
+        assert!(
+            big[0].starts_with(
+                "objects[1].mesh: `meshes/cube.gltf` is 20.0000 × 20.0000 × 20.0000 m"
+            ) && big[0].contains("set `scale = 0.001`"),
+            "{}",
+            big[0]
+        );
+        let small = load("0.0001").warnings;
+        assert!(small[0].contains("check `scale`"), "{small:?}");
     }
 
     #[test]

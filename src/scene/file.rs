@@ -231,6 +231,20 @@ pub(crate) struct MeshDef {
     pub file: Spanned<String>,
     /// File units to metres; absent: 1 (glTF is in metres).
     pub scale: Option<Num>,
+    /// The file's up axis: `y` (absent; glTF's convention, turned to glassscan's +Z up) or
+    /// `z` (taken as it is).
+    pub up_axis: Option<Spanned<UpAxisDef>>,
+}
+
+/// `mesh.up_axis`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+pub(crate) enum UpAxisDef {
+    /// +Y up (glTF 2.0 §3.4).
+    #[serde(rename = "y")]
+    Y,
+    /// +Z up.
+    #[serde(rename = "z")]
+    Z,
 }
 
 /// `[target]`.

@@ -10,10 +10,13 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::path::Path;
 
+use nalgebra::Vector3;
 use serde_spanned::Spanned;
 
 use super::error::{SceneError, SceneSource};
-use super::file::{BoxDef, LabelDef, MaterialDef, MeshDef, ObjectDef, PoseDef, ScanDef, SceneFile};
+use super::file::{
+    BoxDef, LabelDef, MaterialDef, MeshDef, ObjectDef, PoseDef, ScanDef, SceneFile, UpAxisDef,
+};
 use super::fitted::Fitted;
 use super::gltf_mesh::{load_gltf_mesh, GltfMeshError};
 use super::material::material;
@@ -101,6 +104,7 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
     let mut objects = Vec::with_capacity(file.objects.len());
     let mut shapes = Vec::with_capacity(file.objects.len());
     let mut used = vec![false; materials.len()];
+    let mut warnings = Vec::new();
     for (i, obj) in file.objects.iter().enumerate() {
         let def = obj.get_ref();
         let prefix = format!("objects[{i}]");
@@ -145,7 +149,7 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
             &format!("{prefix}.pose"),
             src,
         )?;
-        let (mesh, shape) = shape(def, obj.span(), &prefix, src)?;
+        let (mesh, shape) = shape(def, obj.span(), &prefix, src, &mut warnings)?;
         if let (Shape::Fitted(f), Some(p)) = (&shape, &def.pose) {
             return Err(src.invalid(
                 &p.span(),
@@ -243,6 +247,7 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
         sensor,
         mount,
         scan,
+        warnings,
     })
 }
 
@@ -268,6 +273,7 @@ fn shape<'a>(
     span: Range<usize>,
     prefix: &str,
     src: &SceneSource,
+    warnings: &mut Vec<String>,
 ) -> Result<(Mesh, Shape<'a>), SceneError> {
     let given: Vec<(&str, Range<usize>)> = [
         ("panel", def.panel.as_ref().map(Spanned::span)),
@@ -297,7 +303,7 @@ fn shape<'a>(
         ))
     } else if let Some(m) = &def.mesh {
         Ok((
-            gltf(m.get_ref(), &format!("{prefix}.mesh"), src)?,
+            gltf(m.get_ref(), &format!("{prefix}.mesh"), src, warnings)?,
             Shape::Mesh,
         ))
     } else if let Some(t) = &def.tape {
@@ -372,7 +378,56 @@ fn cuboid_mesh(def: &BoxDef, field: &str, src: &SceneSource) -> Result<Mesh, Sce
     Ok(cuboid(size_m))
 }
 
-fn gltf(def: &MeshDef, prefix: &str, src: &SceneSource) -> Result<Mesh, SceneError> {
+/// Largest and smallest plausible extent (bounding-box diagonal) of a mesh object, m: a
+/// scanned part, a fixture or a table is between a millimetre and ten metres; outside that
+/// range the file's units are the likely cause (a millimetre file read as metres is 1000×).
+const PLAUSIBLE_MESH_EXTENT_M: (f64, f64) = (1e-3, 10.0);
+
+/// glTF's +Y up turned to glassscan's +Z up: the rotation by +90° about x,
+/// (x, y, z) ↦ (x, −z, y), applied as the permutation it is (exact; a rotation, so windings
+/// and outward normals stay as they are).
+fn y_up_to_z_up(mut mesh: Mesh) -> Mesh {
+    let turn = |v: &mut Vector3<f64>| *v = Vector3::new(v.x, -v.z, v.y);
+    mesh.positions.iter_mut().for_each(|p| turn(&mut p.coords));
+    if let Some(normals) = &mut mesh.normals {
+        normals.iter_mut().for_each(turn);
+    }
+    mesh
+}
+
+/// The warning for a mesh whose size is implausible for a scene, naming `scale`.
+fn mesh_size_warning(mesh: &Mesh, field: &str, file: &str, scale: f64) -> Option<String> {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (
+            Vector3::repeat(f64::INFINITY),
+            Vector3::repeat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(&p.coords), hi.sup(&p.coords)),
+    );
+    let size = hi - lo;
+    let extent = size.norm();
+    let (min, max) = PLAUSIBLE_MESH_EXTENT_M;
+    if !extent.is_finite() || (min..=max).contains(&extent) {
+        return None;
+    }
+    let hint = if extent > max {
+        "if the file is in millimetres, set `scale = 0.001` (glTF is in metres)"
+    } else {
+        "if the file is in kilometres or the part is this small on purpose, check `scale`"
+    };
+    Some(format!(
+        "{field}: `{file}` is {:.4} × {:.4} × {:.4} m with `scale = {scale}`, implausible for a \
+         scene (expected {min} m to {max} m across); {hint}",
+        size.x, size.y, size.z
+    ))
+}
+
+fn gltf(
+    def: &MeshDef,
+    prefix: &str,
+    src: &SceneSource,
+    warnings: &mut Vec<String>,
+) -> Result<Mesh, SceneError> {
     let scale = match &def.scale {
         Some(s) => src.positive(s, &format!("{prefix}.scale"))?,
         None => 1.0,
@@ -382,7 +437,7 @@ fn gltf(def: &MeshDef, prefix: &str, src: &SceneSource) -> Result<Mesh, SceneErr
     let (line, column) = src.line_column(span.start);
     let base = src.path.parent().unwrap_or(Path::new(""));
     let mesh_path = base.join(def.file.get_ref());
-    load_gltf_mesh(&mesh_path, scale).map_err(|e| match e {
+    let mesh = load_gltf_mesh(&mesh_path, scale).map_err(|e| match e {
         GltfMeshError::Open { path, source } => SceneError::MissingMesh {
             path: src.path.to_owned(),
             line,
@@ -413,7 +468,13 @@ fn gltf(def: &MeshDef, prefix: &str, src: &SceneSource) -> Result<Mesh, SceneErr
             mesh_path,
             message: other.to_string(),
         },
-    })
+    })?;
+    let mesh = match def.up_axis.as_ref().map(|u| *u.get_ref()) {
+        None | Some(UpAxisDef::Y) => y_up_to_z_up(mesh),
+        Some(UpAxisDef::Z) => mesh,
+    };
+    warnings.extend(mesh_size_warning(&mesh, prefix, def.file.get_ref(), scale));
+    Ok(mesh)
 }
 
 fn scan(

@@ -133,6 +133,9 @@ pub struct World {
     pub mount: Pose,
     /// Scan settings (CLI flags may override them).
     pub scan: ScanConfig,
+    /// What the loader found suspicious but not wrong (e.g. a mesh of implausible size), each
+    /// naming the field; the command line prints them and the manifests record them.
+    pub warnings: Vec<String>,
 }
 
 /// Albedo of the opaque copy of a target (the paper's Table 3 compares the glass with an

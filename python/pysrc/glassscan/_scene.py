@@ -152,6 +152,12 @@ class Scene:
         return os.fspath(self._native.path)
 
     @property
+    def warnings(self) -> List[str]:
+        """What the loader found suspicious but not wrong (the command line prints them as
+        ``warning:`` lines), e.g. a mesh of implausible size, naming ``scale``."""
+        return list(self._native.warnings)
+
+    @property
     def target(self) -> Optional[str]:
         """The target object's name, or None if the scene has no ``[target]``."""
         return self._native.target
