@@ -73,6 +73,7 @@ pub fn world_of_boxes(boxes: &[BoxSpec]) -> World {
             standoff_m: 0.2575,
             start_fraction: 0.0,
         },
+        material_sources: Vec::new(),
         warnings: Vec::new(),
     }
 }

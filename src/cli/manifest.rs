@@ -119,6 +119,9 @@ pub struct Manifest {
     pub target_nominal_pose: Option<PoseMmDeg>,
     /// The poses.
     pub poses: Vec<PoseEntry>,
+    /// Where the values of each material taken from a glTF file came from (absent when none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub material_sources: Vec<crate::scene::world::MaterialSource>,
     /// The scene loader's warnings (absent when there are none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub scene_warnings: Vec<String>,
@@ -165,6 +168,7 @@ impl Manifest {
             target_pose: target.map(|t| (&world.objects[t.object].pose).into()),
             target_nominal_pose: target.map(|t| (&t.nominal_pose).into()),
             poses,
+            material_sources: world.material_sources.clone(),
             scene_warnings: world.warnings.clone(),
             elapsed_s: elapsed.as_secs_f64(),
         }

@@ -111,6 +111,7 @@ mod tests {
                 standoff_m: 0.2,
                 start_fraction: 0.0,
             },
+            material_sources: Vec::new(),
             warnings: Vec::new(),
         }
     }

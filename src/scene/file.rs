@@ -70,6 +70,18 @@ pub(crate) struct MaterialDef {
     pub edge_roughness: Option<Num>,
 }
 
+/// `material_overrides` of a mesh object whose material comes from its glTF file: each value
+/// replaces the file's (or gives what glTF cannot carry: `face_imperfection`, `edge_roughness`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MaterialOverridesDef {
+    pub ior: Option<Num>,
+    pub absorption_per_mm: Option<Num>,
+    pub face_imperfection: Option<Num>,
+    pub edge_roughness: Option<Num>,
+    pub albedo: Option<Num>,
+}
+
 /// n²(λ) = 1 + Σ bᵢ·λ²/(λ² − cᵢ), λ in µm.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -84,7 +96,10 @@ pub(crate) struct SellmeierDef {
 #[serde(deny_unknown_fields)]
 pub(crate) struct ObjectDef {
     pub name: Spanned<String>,
-    pub material: Spanned<String>,
+    /// A `[materials.NAME]`; absent only for a mesh, which then takes its glTF material.
+    pub material: Option<Spanned<String>>,
+    /// Values for (or instead of) the glTF material's, when `material` is absent.
+    pub material_overrides: Option<Spanned<MaterialOverridesDef>>,
     /// True pose T_B_object; identity when absent.
     pub pose: Option<Spanned<PoseDef>>,
     pub panel: Option<Spanned<PanelDef>>,

@@ -2,17 +2,18 @@
 //! the node transforms (accumulated parent → child, glTF 2.0 §3.5.2), scaled to metres.
 //!
 //! glTF positions are in metres by the specification (§3.4), so `scale` is 1 for a conforming
-//! file; a file exported in millimetres needs 0.001. Images and materials are not read: the
-//! scene file gives the material. A node whose transform has a negative determinant mirrors
+//! file; a file exported in millimetres needs 0.001. Images are not read. A node whose transform has a negative determinant mirrors
 //! its mesh, so its triangles are re-wound to keep counter-clockwise = outward (glTF 2.0
 //! §3.7.2.1). Vertex normals are kept, transformed by the inverse transpose, when every
-//! primitive has them; otherwise the mesh is flat shaded.
+//! primitive has them; otherwise the mesh is flat shaded. The materials the triangles use are
+//! read too (`gltf_material`); the scene loader decides whether they apply.
 
 use std::path::{Path, PathBuf};
 
 use gltf::mesh::Mode;
 use nalgebra::{Matrix3, Matrix4, Point3, Vector3};
 
+use super::gltf_material::{FileMaterial, HANDLED_EXTENSIONS, REQUIRABLE_EXTENSIONS};
 use crate::geometry::mesh::{Mesh, SurfacePart};
 
 /// Why a glTF file could not be turned into a mesh. The scene loader adds the scene file's
@@ -52,11 +53,26 @@ pub enum GltfMeshError {
 /// default) of a `.gltf` or `.glb` file, with positions multiplied by `scale` (file units →
 /// metres). Triangles are `SurfacePart::Solid`.
 pub fn load_gltf_mesh(path: &Path, scale: f64) -> Result<Mesh, GltfMeshError> {
+    load_gltf(path, scale).map(|g| g.mesh)
+}
+
+/// A glTF file's triangles and the materials they use.
+#[derive(Clone, Debug)]
+pub struct GltfMesh {
+    /// The triangles, as [`load_gltf_mesh`] gives them.
+    pub mesh: Mesh,
+    /// The distinct materials of the triangle primitives, in the order first met
+    /// (`the default material` for a primitive that names none).
+    pub materials: Vec<FileMaterial>,
+}
+
+/// [`load_gltf_mesh`], with the materials its triangles use.
+pub fn load_gltf(path: &Path, scale: f64) -> Result<GltfMesh, GltfMeshError> {
     let bytes = std::fs::read(path).map_err(|source| GltfMeshError::Open {
         path: path.to_owned(),
         source,
     })?;
-    load_gltf_mesh_from_slice(path, &bytes, scale)
+    load_gltf_from_slice(path, &bytes, scale)
 }
 
 /// [`load_gltf_mesh`] of a file's bytes already in memory; external buffers (`.bin`) are
@@ -66,11 +82,21 @@ pub fn load_gltf_mesh_from_slice(
     bytes: &[u8],
     scale: f64,
 ) -> Result<Mesh, GltfMeshError> {
+    load_gltf_from_slice(path, bytes, scale).map(|g| g.mesh)
+}
+
+/// [`load_gltf`] of a file's bytes already in memory.
+pub fn load_gltf_from_slice(
+    path: &Path,
+    bytes: &[u8],
+    scale: f64,
+) -> Result<GltfMesh, GltfMeshError> {
     let invalid = |e: gltf::Error| GltfMeshError::Invalid {
         message: describe(&e, bytes),
     };
     check_glb_header(bytes).map_err(|message| GltfMeshError::Invalid { message })?;
     check_accessor_indices(bytes).map_err(|message| GltfMeshError::Invalid { message })?;
+    check_required_extensions(bytes).map_err(|message| GltfMeshError::Invalid { message })?;
     let gltf = gltf::Gltf::from_slice(bytes).map_err(invalid)?;
     let base = path.parent().unwrap_or(Path::new("."));
     // The reader's own error for a missing external buffer names no file.
@@ -99,6 +125,7 @@ pub fn load_gltf_mesh_from_slice(
         .ok_or(GltfMeshError::Empty)?;
 
     let mut out = Mesh::default();
+    let mut materials: Vec<(Option<usize>, FileMaterial)> = Vec::new();
     let mut all_have_normals = true;
     let root = Matrix4::new_scaling(scale);
     // Depth-first over the node tree with the accumulated transform; glTF forbids cycles
@@ -117,6 +144,12 @@ pub fn load_gltf_mesh_from_slice(
         let world = parent * local;
         if let Some(mesh) = node.mesh() {
             let part = mesh_part(&mesh, &buffers, &world)?;
+            for prim in mesh.primitives() {
+                let m = prim.material();
+                if !materials.iter().any(|(i, _)| *i == m.index()) {
+                    materials.push((m.index(), FileMaterial::read(&m, scale)));
+                }
+            }
             all_have_normals &= part.normals.is_some();
             out.append(&part);
         }
@@ -130,7 +163,53 @@ pub fn load_gltf_mesh_from_slice(
     }
     out.check()
         .map_err(|message| GltfMeshError::Invalid { message })?;
-    Ok(out)
+    Ok(GltfMesh {
+        mesh: out,
+        materials: materials.into_iter().map(|(_, m)| m).collect(),
+    })
+}
+
+/// The file's JSON document, parsed without the reader's validation; `None` for input the
+/// reader cannot even deserialise (its own message then reports it).
+fn json_root(bytes: &[u8]) -> Option<gltf::json::Root> {
+    let json: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
+        gltf::Glb::from_slice(bytes).ok()?.json
+    } else {
+        bytes.into()
+    };
+    gltf::json::Root::from_slice(&json).ok()
+}
+
+/// Refuses a file that requires an extension glassscan does not read
+/// ([`HANDLED_EXTENSIONS`]) or that its reader refuses as required
+/// ([`REQUIRABLE_EXTENSIONS`]), by name, before the glTF reader's own, terser refusal.
+fn check_required_extensions(bytes: &[u8]) -> Result<(), String> {
+    let Some(root) = json_root(bytes) else {
+        return Ok(());
+    };
+    let required = root.extensions_required.iter().map(String::as_str);
+    let unknown: Vec<&str> = required
+        .clone()
+        .filter(|e| !HANDLED_EXTENSIONS.contains(e))
+        .collect();
+    if !unknown.is_empty() {
+        return Err(format!(
+            "the file requires the glTF extension(s) {}, which glassscan does not read (it \
+             reads {})",
+            unknown.join(", "),
+            HANDLED_EXTENSIONS.join(", ")
+        ));
+    }
+    if let Some(e) = required
+        .clone()
+        .find(|e| !REQUIRABLE_EXTENSIONS.contains(e))
+    {
+        return Err(format!(
+            "the file lists {e} in extensionsRequired; glassscan reads it, but its glTF reader \
+             (gltf 1.4.1) refuses it there: list it in extensionsUsed only"
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a GLB whose header states a total length below the header's own 12 bytes: the
@@ -154,15 +233,7 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
 /// in its primitive validation hook; found by the `gltf_mesh` fuzz target). Input the reader
 /// cannot even deserialise is left to it, so that its own message reports it.
 fn check_accessor_indices(bytes: &[u8]) -> Result<(), String> {
-    let json: std::borrow::Cow<[u8]> = if bytes.starts_with(b"glTF") {
-        match gltf::Glb::from_slice(bytes) {
-            Ok(glb) => glb.json,
-            Err(_) => return Ok(()),
-        }
-    } else {
-        bytes.into()
-    };
-    let Ok(root) = gltf::json::Root::from_slice(&json) else {
+    let Some(root) = json_root(bytes) else {
         return Ok(());
     };
     let n = root.accessors.len();

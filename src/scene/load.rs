@@ -18,8 +18,10 @@ use super::file::{
     BoxDef, LabelDef, MaterialDef, MeshDef, ObjectDef, PoseDef, ScanDef, SceneFile, UpAxisDef,
 };
 use super::fitted::Fitted;
-use super::gltf_mesh::{load_gltf_mesh, GltfMeshError};
+use super::gltf_material::FileMaterial;
+use super::gltf_mesh::{load_gltf, GltfMesh, GltfMeshError};
 use super::material::material;
+use super::mesh_material::mesh_material;
 use super::panel::panel;
 use super::sensor_overrides::resolve_sensor;
 use super::world::{Material, NamedMaterial, Object, ObjectLabel, Target, World};
@@ -67,7 +69,8 @@ pub fn load_str(path: &Path, text: &str) -> Result<World, SceneError> {
 enum Shape<'a> {
     Panel(Box<PanelSpec>, BorderCurve),
     Box,
-    Mesh,
+    /// With the glTF materials its triangles use.
+    Mesh(Vec<FileMaterial>),
     /// Built once every object is known: a tape or cover on another object.
     Fitted(Fitted<'a>),
 }
@@ -77,7 +80,7 @@ impl Shape<'_> {
         match self {
             Shape::Panel(..) => "panel",
             Shape::Box => "box",
-            Shape::Mesh => "mesh",
+            Shape::Mesh(_) => "mesh",
             Shape::Fitted(f) => f.key(),
         }
     }
@@ -105,6 +108,7 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
     let mut shapes = Vec::with_capacity(file.objects.len());
     let mut used = vec![false; materials.len()];
     let mut warnings = Vec::new();
+    let mut material_sources = Vec::new();
     for (i, obj) in file.objects.iter().enumerate() {
         let def = obj.get_ref();
         let prefix = format!("objects[{i}]");
@@ -131,25 +135,68 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
         }
         seen.insert(name, def.name.span());
 
-        let material_name = def.material.get_ref();
-        let Some(m) = materials.iter().position(|(n, _)| n == material_name) else {
-            let (line, column) = src.line_column(def.material.span().start);
-            return Err(SceneError::UnknownMaterial {
-                path: src.path.to_owned(),
-                line,
-                column,
-                field: format!("{prefix}.material"),
-                name: material_name.clone(),
-                known: materials.iter().map(|(n, _)| n.clone()).collect(),
-            });
+        let named = match &def.material {
+            Some(material) => {
+                let material_name = material.get_ref();
+                let Some(m) = materials.iter().position(|(n, _)| n == material_name) else {
+                    let (line, column) = src.line_column(material.span().start);
+                    return Err(SceneError::UnknownMaterial {
+                        path: src.path.to_owned(),
+                        line,
+                        column,
+                        field: format!("{prefix}.material"),
+                        name: material_name.clone(),
+                        known: materials.iter().map(|(n, _)| n.clone()).collect(),
+                    });
+                };
+                if let Some(o) = &def.material_overrides {
+                    return Err(src.invalid(
+                        &o.span(),
+                        format!("{prefix}.material_overrides"),
+                        format!(
+                            "applies to a material taken from a mesh's glTF file; this object \
+                             names `{material_name}`, whose values are all in [materials.{material_name}]"
+                        ),
+                    ));
+                }
+                Some(m)
+            }
+            None => None,
         };
-        used[m] = true;
         let pose = pose(
             def.pose.as_ref().map(Spanned::get_ref),
             &format!("{prefix}.pose"),
             src,
         )?;
         let (mesh, shape) = shape(def, obj.span(), &prefix, src, &mut warnings)?;
+        let m = match (named, &shape, &def.mesh) {
+            (Some(m), ..) => m,
+            (None, Shape::Mesh(file_materials), Some(mesh_def)) => {
+                let (material, source) = mesh_material(
+                    name,
+                    &prefix,
+                    &obj.span(),
+                    mesh_def.get_ref().file.get_ref(),
+                    file_materials,
+                    def.material_overrides.as_ref(),
+                    src,
+                    &mut warnings,
+                )?;
+                material_sources.push(source);
+                materials.push((format!("{name} (glTF)"), material));
+                used.push(false);
+                materials.len() - 1
+            }
+            (None, ..) => {
+                return Err(src.invalid(
+                    &obj.span(),
+                    prefix,
+                    "is missing `material` (only a mesh object may leave it out and take its \
+                     glTF file's material)",
+                ))
+            }
+        };
+        used[m] = true;
         if let (Shape::Fitted(f), Some(p)) = (&shape, &def.pose) {
             return Err(src.invalid(
                 &p.span(),
@@ -247,6 +294,7 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
         sensor,
         mount,
         scan,
+        material_sources,
         warnings,
     })
 }
@@ -302,10 +350,8 @@ fn shape<'a>(
             Shape::Box,
         ))
     } else if let Some(m) = &def.mesh {
-        Ok((
-            gltf(m.get_ref(), &format!("{prefix}.mesh"), src, warnings)?,
-            Shape::Mesh,
-        ))
+        let (mesh, materials) = gltf(m.get_ref(), &format!("{prefix}.mesh"), src, warnings)?;
+        Ok((mesh, Shape::Mesh(materials)))
     } else if let Some(t) = &def.tape {
         Ok((Mesh::default(), Shape::Fitted(Fitted::Tape(t))))
     } else if let Some(c) = &def.cover {
@@ -333,7 +379,7 @@ fn fit_objects(
         let def = file.objects[i].get_ref();
         if let (name, Material::Glass(_)) = &materials[objects[i].material] {
             return Err(src.invalid(
-                &def.material.span(),
+                &def.material.as_ref().map_or(file.objects[i].span(), Spanned::span),
                 format!("{prefix}.material"),
                 format!(
                     "must be a lambertian material: a {key} is modelled as one opaque surface,                      and `{name}` is glass"
@@ -427,7 +473,7 @@ fn gltf(
     prefix: &str,
     src: &SceneSource,
     warnings: &mut Vec<String>,
-) -> Result<Mesh, SceneError> {
+) -> Result<(Mesh, Vec<FileMaterial>), SceneError> {
     let scale = match &def.scale {
         Some(s) => src.positive(s, &format!("{prefix}.scale"))?,
         None => 1.0,
@@ -437,7 +483,7 @@ fn gltf(
     let (line, column) = src.line_column(span.start);
     let base = src.path.parent().unwrap_or(Path::new(""));
     let mesh_path = base.join(def.file.get_ref());
-    let mesh = load_gltf_mesh(&mesh_path, scale).map_err(|e| match e {
+    let GltfMesh { mesh, materials } = load_gltf(&mesh_path, scale).map_err(|e| match e {
         GltfMeshError::Open { path, source } => SceneError::MissingMesh {
             path: src.path.to_owned(),
             line,
@@ -474,7 +520,7 @@ fn gltf(
         Some(UpAxisDef::Z) => mesh,
     };
     warnings.extend(mesh_size_warning(&mesh, prefix, def.file.get_ref(), scale));
-    Ok(mesh)
+    Ok((mesh, materials))
 }
 
 fn scan(

@@ -19,9 +19,11 @@ mod edge_def;
 mod error;
 mod file;
 mod fitted;
+pub mod gltf_material;
 pub mod gltf_mesh;
 mod load;
 mod material;
+mod mesh_material;
 mod panel;
 mod sensor_overrides;
 #[cfg(test)]

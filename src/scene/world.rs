@@ -133,9 +133,38 @@ pub struct World {
     pub mount: Pose,
     /// Scan settings (CLI flags may override them).
     pub scan: ScanConfig,
+    /// Where the values of every material taken from a glTF file came from.
+    pub material_sources: Vec<MaterialSource>,
     /// What the loader found suspicious but not wrong (e.g. a mesh of implausible size), each
     /// naming the field; the command line prints them and the manifests record them.
     pub warnings: Vec<String>,
+}
+
+/// A material taken from a mesh's glTF file: which one, and where each value came from.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MaterialSource {
+    /// The object.
+    pub object: String,
+    /// The glTF file, as the scene file names it.
+    pub file: String,
+    /// The glTF material (`material 0 "Glass"`).
+    pub gltf_material: String,
+    /// `glass` or `lambertian`.
+    pub kind: &'static str,
+    /// Each value in the scene file's units, with its source.
+    pub values: Vec<MaterialValue>,
+}
+
+/// One value of a [`MaterialSource`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct MaterialValue {
+    /// The scene file's key (`ior`, `absorption_per_mm`, …).
+    pub key: &'static str,
+    /// The value, in that key's unit.
+    pub value: f64,
+    /// `file` (the glTF material), `toml` (`material_overrides`) or `gltf default` (the
+    /// extension's default for a value the file leaves out).
+    pub source: &'static str,
 }
 
 /// Albedo of the opaque copy of a target (the paper's Table 3 compares the glass with an
