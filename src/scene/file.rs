@@ -72,7 +72,7 @@ pub(crate) struct MaterialDef {
 
 /// `material_overrides` of a mesh object whose material comes from its glTF file: each value
 /// replaces the file's (or gives what glTF cannot carry: `face_imperfection`, `edge_roughness`).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct MaterialOverridesDef {
     pub ior: Option<Num>,

@@ -42,13 +42,7 @@ pub(super) fn mesh_material(
             ));
         }
     };
-    let empty = MaterialOverridesDef {
-        ior: None,
-        absorption_per_mm: None,
-        face_imperfection: None,
-        edge_roughness: None,
-        albedo: None,
-    };
+    let empty = MaterialOverridesDef::default();
     let o = overrides.map_or(&empty, Spanned::get_ref);
     let from_file = |what: String| {
         src.invalid(

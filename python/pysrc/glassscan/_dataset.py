@@ -46,6 +46,17 @@ def _ground_truth(path: str) -> Dict[str, Any]:
     return truth
 
 
+#: The reader of each field's file.
+_READERS = {
+    "image": read_image,
+    "irradiance": read_irradiance,
+    "profile": read_profile,
+    "points": read_points,
+    "ground_truth": _ground_truth,
+    "ideal_profile": read_ideal_profile,
+}
+
+
 class Dataset:
     """The samples of a dataset directory, in sample-index order.
 
@@ -133,16 +144,8 @@ class Dataset:
         entry = self.manifest[self._position(i)]
         directory = os.path.join(self.path, entry["directory"])
         sample: Dict[str, Any] = {"index": entry["index"], "manifest": entry}
-        readers = {
-            "image": read_image,
-            "irradiance": read_irradiance,
-            "profile": read_profile,
-            "points": read_points,
-            "ground_truth": _ground_truth,
-            "ideal_profile": read_ideal_profile,
-        }
         for name in self.fields:
-            sample[name] = readers[name](os.path.join(directory, FIELDS[name]))
+            sample[name] = _READERS[name](os.path.join(directory, FIELDS[name]))
         return sample
 
     def __iter__(self) -> Iterator[Dict[str, Any]]:
