@@ -5,7 +5,7 @@
 //! The hash is SplitMix64's finaliser (Steele, Lea & Flood, "Fast splittable pseudorandom
 //! number generators", OOPSLA 2014) applied to a combination of the key words; it passes
 //! BigCrush as a counter-based generator. Low dimensions of a photon use a Cranley–Patterson
-//! rotated Kronecker (R_d) lattice indexed by the photon, so the photons that fall in one
+//! rotated Kronecker lattice indexed by the photon, so the photons that fall in one
 //! sensor column are well spread over the beam and aperture dimensions.
 
 /// SplitMix64 finaliser: a bijective 64-bit mix.
@@ -21,10 +21,15 @@ fn unit(h: u64) -> f64 {
     (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
-/// Generalised golden-ratio (R_4) lattice: α_j = 1/g^j with g the real root of x⁵ = x + 1
-/// (M. Roberts, "The unreasonable effectiveness of quasirandom sequences", 2018).
-const R4_ALPHA: [f64; 4] = [
-    0.856_674_883_854_502_9,
+/// Kronecker lattice steps. Dimension 0 (the laser's transverse offset) steps by the golden
+/// ratio's conjugate: paired with the fan position i/N that stratifies columns, it makes the
+/// two-dimensional Fibonacci-like lattice, the best spread there is for any block of consecutive
+/// photons (three-gap theorem), so each column's photons cover the beam's profile evenly (with
+/// the R_4 step 0.8567, whose continued fraction has a 6, a block covers it less evenly).
+/// Dimensions 1–3 use the generalised golden-ratio (R_4) steps α_j = 1/g^j with g the real root
+/// of x⁵ = x + 1 (M. Roberts, "The unreasonable effectiveness of quasirandom sequences", 2018).
+const LATTICE_STEPS: [f64; 4] = [
+    0.618_033_988_749_894_8,
     0.733_891_856_627_126,
     0.628_706_721_037_808_7,
     0.538_597_257_223_610_1,
@@ -51,14 +56,14 @@ impl PoseSampler {
         ))
     }
 
-    /// Four well-spread uniforms for `photon`: the R_4 lattice point number `photon`, shifted
+    /// Four well-spread uniforms for `photon`: the Kronecker lattice point number `photon`, shifted
     /// by a per-pose random offset (Cranley–Patterson rotation keeps each dimension uniform).
     pub fn lattice4(&self, photon: u64) -> [f64; 4] {
         let mut out = [0.0; 4];
         for (j, o) in out.iter_mut().enumerate() {
             let shift = unit(mix64(self.key ^ (0xA5A5_0000 + j as u64)));
             // (photon · α) mod 1, computed without losing the fraction for large photon counts.
-            let step = ((photon % (1 << 40)) as f64 * R4_ALPHA[j]).fract();
+            let step = ((photon % (1 << 40)) as f64 * LATTICE_STEPS[j]).fract();
             *o = (shift + step).fract();
         }
         out

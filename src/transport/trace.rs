@@ -246,7 +246,7 @@ impl Tracer<'_> {
             origin: pose * ray.origin,
             leaving: None,
             dir,
-            flux: laser.power_w / self.settings.photons as f64,
+            flux: ray.weight * laser.power_w / self.settings.photons as f64,
             stokes,
             all_specular: true,
             crossed_glass: false,
