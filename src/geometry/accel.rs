@@ -75,6 +75,49 @@ pub struct SceneAccel {
     /// Index into `input` for each entry of `rt`.
     source: Vec<u32>,
     input: Vec<SceneTriangle>,
+    /// The f64 quantities of each input triangle that completing a hit needs, computed once
+    /// (the same expressions as before, so hits are bit for bit what they were).
+    exact: Vec<ExactTriangle>,
+}
+
+/// One triangle's f64 edge vectors, normal and Gram matrix.
+#[derive(Clone, Copy, Debug)]
+struct ExactTriangle {
+    a: Point3<f64>,
+    e1: Vector3<f64>,
+    e2: Vector3<f64>,
+    /// e1 × e2 (unnormalised).
+    cross: Vector3<f64>,
+    /// The unit geometric normal.
+    normal: Vector3<f64>,
+    /// |e1 × e2|.
+    cross_norm: f64,
+    d00: f64,
+    d01: f64,
+    d11: f64,
+    /// d00·d11 − d01².
+    det: f64,
+}
+
+impl ExactTriangle {
+    fn new(t: &SceneTriangle) -> ExactTriangle {
+        let [a, b, c] = t.vertices;
+        let (e1, e2) = (b - a, c - a);
+        let cross = e1.cross(&e2);
+        let (d00, d01, d11) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
+        ExactTriangle {
+            a,
+            e1,
+            e2,
+            cross,
+            normal: cross.normalize(),
+            cross_norm: cross.norm(),
+            d00,
+            d01,
+            d11,
+            det: d00 * d11 - d01 * d01,
+        }
+    }
 }
 
 /// BVH units per metre (see the module documentation).
@@ -130,11 +173,13 @@ impl SceneAccel {
             .iter()
             .map(|&i| RtTriangle::from(&tris[i as usize]))
             .collect();
+        let exact = triangles.iter().map(ExactTriangle::new).collect();
         SceneAccel {
             bvh,
             rt,
             source,
             input: triangles,
+            exact,
         }
     }
 
@@ -164,16 +209,7 @@ impl SceneAccel {
         {
             return None;
         }
-        let id = hit.primitive_id as usize;
-        let bary = self.rt[id].compute_barycentric(&ray);
-        Some(self.make_hit(
-            self.source[id],
-            hit.t as f64 / BVH_UNITS_PER_M,
-            origin,
-            dir,
-            bary.x,
-            bary.y,
-        ))
+        Some(self.make_bvh_hit(hit.primitive_id as usize, &ray, hit.t, origin, dir))
     }
 
     /// The closest hit along a ray that starts exactly on a surface, at `origin` on triangle
@@ -216,23 +252,13 @@ impl SceneAccel {
         if !found {
             return None;
         }
-        let id = hit.primitive_id as usize;
-        let bary = self.rt[id].compute_barycentric(&ray);
-        Some(self.make_hit(
-            self.source[id],
-            hit.t as f64 / BVH_UNITS_PER_M,
-            origin,
-            dir,
-            bary.x,
-            bary.y,
-        ))
+        Some(self.make_bvh_hit(hit.primitive_id as usize, &ray, hit.t, origin, dir))
     }
 
     /// Distance (m) along `origin + t·dir` to input triangle `tri` in f64 (Möller–Trumbore),
     /// or `None` if the ray misses it or runs parallel to it.
     fn intersect_f64(&self, tri: u32, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<f64> {
-        let [a, b, c] = self.input[tri as usize].vertices;
-        let (e1, e2) = (b - a, c - a);
+        let ExactTriangle { a, e1, e2, .. } = self.exact[tri as usize];
         let p = dir.cross(&e2);
         let det = e1.dot(&p);
         if det == 0.0 || !det.is_finite() {
@@ -292,46 +318,58 @@ impl SceneAccel {
                 to_vec3a(&t.vertices[2]),
             );
             let b = rt.compute_barycentric(&ray);
-            self.make_hit(i as u32, d as f64 / BVH_UNITS_PER_M, origin, dir, b.x, b.y)
+            self.make_hit(i as u32, origin, dir, || {
+                (d as f64 / BVH_UNITS_PER_M, b.x, b.y)
+            })
         })
     }
 
-    /// Completes a hit found in f32 by the BVH: the distance, point and barycentrics are
-    /// recomputed in f64 against the triangle's f64 vertices, so hit points are exact to f64
-    /// rounding (what finite differences of connection paths through glass need).
+    /// [`Self::make_hit`] for entry `id` of the BVH's primitive order, found at distance `t_bvh`
+    /// (BVH units) along `ray`; obvhs's f32 barycentrics are computed only if they are needed.
+    fn make_bvh_hit(
+        &self,
+        id: usize,
+        ray: &Ray,
+        t_bvh: f32,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+    ) -> Hit {
+        self.make_hit(self.source[id], origin, dir, || {
+            let b = self.rt[id].compute_barycentric(ray);
+            (t_bvh as f64 / BVH_UNITS_PER_M, b.x, b.y)
+        })
+    }
+
+    /// Completes a hit found in f32 on input triangle `tri`: the distance, point and
+    /// barycentrics are recomputed in f64 against the triangle's f64 vertices, so hit points are
+    /// exact to f64 rounding (what finite differences of connection paths through glass need).
+    /// `f32_hit` gives the f32 test's (t in m, u, v), used only for a ray that grazes the plane.
     fn make_hit(
         &self,
         tri: u32,
-        t_f32: f64,
         origin: &Point3<f64>,
         dir: &Vector3<f64>,
-        u: f32,
-        v: f32,
+        f32_hit: impl FnOnce() -> (f64, f32, f32),
     ) -> Hit {
         let st = &self.input[tri as usize];
-        let [a, b, c] = st.vertices;
-        let (e1, e2) = (b - a, c - a);
-        let cross = e1.cross(&e2);
-        let geometric_normal = cross.normalize();
-        let denom = dir.dot(&cross);
-        let (t, u, v) = if denom.abs() > 1e-12 * cross.norm() {
+        let x = &self.exact[tri as usize];
+        let geometric_normal = x.normal;
+        let denom = dir.dot(&x.cross);
+        let (t, u, v) = if denom.abs() > 1e-12 * x.cross_norm {
             // Möller–Trumbore in f64 on the same triangle.
-            let t = (a - origin).dot(&cross) / denom;
+            let t = (x.a - origin).dot(&x.cross) / denom;
             let p = origin + dir * t;
-            let w = p - a;
-            let d00 = e1.dot(&e1);
-            let d01 = e1.dot(&e2);
-            let d11 = e2.dot(&e2);
-            let d20 = w.dot(&e1);
-            let d21 = w.dot(&e2);
-            let det = d00 * d11 - d01 * d01;
+            let w = p - x.a;
+            let d20 = w.dot(&x.e1);
+            let d21 = w.dot(&x.e2);
             (
                 t,
-                (d11 * d20 - d01 * d21) / det,
-                (d00 * d21 - d01 * d20) / det,
+                (x.d11 * d20 - x.d01 * d21) / x.det,
+                (x.d00 * d21 - x.d01 * d20) / x.det,
             )
         } else {
-            (t_f32, u as f64, v as f64)
+            let (t, u, v) = f32_hit();
+            (t, u as f64, v as f64)
         };
         let shading_normal = match &st.normals {
             Some([na, nb, nc]) => {
