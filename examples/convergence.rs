@@ -30,7 +30,7 @@ const SEEDS_C: [u64; 2] = [31, 32];
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let [scene_path, angle_deg, out] = &args[..] else {
+    let [scene_path, angle_deg, out, ..] = &args[..] else {
         eprintln!("usage: convergence SCENE SCAN_ANGLE_DEG OUT_DIR [PHOTONS,…]");
         std::process::exit(2);
     };

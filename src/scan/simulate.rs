@@ -153,6 +153,7 @@ pub fn sense_pose(
         head.camera.pixel_area(),
         cfg.laser.wavelength_m,
         &frame_sampler(settings.seed, pose.index as u64),
+        &head.fixed_pattern,
     );
     let profile = extract(
         &exposure.dn,

@@ -124,7 +124,13 @@ pub fn poisson(mean: f64, mut u: impl FnMut() -> f64) -> f64 {
 }
 
 fn poisson_inversion(mean: f64, u: f64) -> f64 {
-    let (mut k, mut p) = (0.0, (-mean).exp());
+    poisson_inversion_from(mean, (-mean).exp(), u)
+}
+
+/// [`poisson_inversion`] with P(K = 0) = e^(−μ) given: a draw of one mean for every pixel
+/// (the dark current) computes it once.
+fn poisson_inversion_from(mean: f64, p0: f64, u: f64) -> f64 {
+    let (mut k, mut p) = (0.0, p0);
     let mut cdf = p;
     // P(k > 1000) < 10⁻⁹⁰⁰ for μ < 30; the bound also ends the search when rounding leaves
     // the summed CDF just below a u close to 1.
@@ -191,13 +197,17 @@ fn draws(sampler: &PoseSampler, key: u64, base: u32) -> impl FnMut() -> f64 + '_
 }
 
 /// The sensor's fixed pattern on a `width` × `height` grid: per-pixel gain (PRNU, mean 1) and
-/// dark offset (DSNU, e⁻, mean 0), both Gaussian.
+/// dark offset (DSNU, e⁻, mean 0), both Gaussian. It belongs to the simulated sensor unit, so
+/// `SensorHead` makes it once and every exposure reuses it (making it costs two Gaussian
+/// draws per pixel, a third of an exposure's time).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FixedPattern {
     /// Gain map g = max(1 + PRNU·n, 0), multiplying η.
     pub gain: Image<f64>,
     /// Dark offset map d = DSNU·n′ (e⁻).
     pub offset_e: Image<f64>,
+    /// The PRNU and DSNU (e⁻) it was made for.
+    made_for: (f64, f64),
 }
 
 impl FixedPattern {
@@ -224,12 +234,20 @@ impl FixedPattern {
         FixedPattern {
             gain,
             offset_e: map(spec.dsnu_e, DIM_DSNU, 0.0),
+            made_for: (spec.prnu, spec.dsnu_e),
         }
+    }
+
+    /// Whether this is the pattern of `spec` on a `width` × `height` grid.
+    pub fn fits(&self, spec: &ImagerSpec, width: usize, height: usize) -> bool {
+        self.made_for == (spec.prnu, spec.dsnu_e)
+            && (self.gain.width, self.gain.height) == (width, height)
     }
 }
 
 /// Exposes `irradiance` (W/m², on pixels of `pixel_area_m2` at `wavelength_m`) with the
-/// temporal noise of `sampler`. With `spec.noise` false the result is the noise-free mean
+/// temporal noise of `sampler` and the sensor's fixed `pattern` (made anew if it is not the
+/// pattern of `spec` on this grid). With `spec.noise` false the result is the noise-free mean
 /// model: `dn` is exactly [`ImagerSpec::expose`], `electrons` = min(η·μ_p, full well), no
 /// dark signal, fixed pattern or blooming.
 pub fn expose(
@@ -238,14 +256,31 @@ pub fn expose(
     pixel_area_m2: f64,
     wavelength_m: f64,
     sampler: &PoseSampler,
+    pattern: &FixedPattern,
 ) -> Exposure {
     if !spec.noise {
         return expose_mean(spec, irradiance, pixel_area_m2, wavelength_m);
     }
     let (w, h) = (irradiance.width, irradiance.height);
     let full_well = spec.full_well_e;
-    let pattern = FixedPattern::new(spec, w, h);
+    let made;
+    let pattern = if pattern.fits(spec, w, h) {
+        pattern
+    } else {
+        made = FixedPattern::new(spec, w, h);
+        &made
+    };
     let dark_e = spec.dark_current_e_per_s * spec.exposure_s;
+    // The dark charge has one mean for every pixel, so inversion's e^(−μ) is computed once
+    // (the same draw as `poisson`, uniform for uniform).
+    let dark_p0 = (-dark_e).exp();
+    let dark = |key: u64| {
+        if dark_e > 0.0 && dark_e < INVERSION_MAX_MEAN {
+            poisson_inversion_from(dark_e, dark_p0, sampler.uniform(key, DIM_DARK))
+        } else {
+            poisson(dark_e, draws(sampler, key, DIM_DARK))
+        }
+    };
     let charge: Vec<f64> = irradiance
         .data
         .par_iter()
@@ -254,8 +289,7 @@ pub fn expose(
             let key = pixel_key(i % w, i / w);
             let photons = spec.photons(e, pixel_area_m2, wavelength_m);
             let mean_e = (spec.quantum_efficiency * photons * pattern.gain.data[i]).max(0.0);
-            poisson(mean_e, draws(sampler, key, DIM_PHOTO))
-                + poisson(dark_e, draws(sampler, key, DIM_DARK))
+            poisson(mean_e, draws(sampler, key, DIM_PHOTO)) + dark(key)
         })
         .collect();
     let mut electrons = Image {
@@ -450,16 +484,25 @@ mod tests {
         }
         let (area, lambda) = (9.4e-6 * 9.4e-6, 658e-9);
         let s = frame_sampler(1, 0);
+        let pattern = FixedPattern::new(&spec, 16, 8);
         spec.noise = false;
-        let off = expose(&spec, &e, area, lambda, &s);
+        let off = expose(&spec, &e, area, lambda, &s, &pattern);
         assert_eq!(off.dn, spec.expose(&e, area, lambda));
         spec.noise = true;
-        let a = expose(&spec, &e, area, lambda, &s);
-        assert_eq!(a, expose(&spec, &e, area, lambda, &frame_sampler(1, 0)));
+        let a = expose(&spec, &e, area, lambda, &s, &pattern);
+        let again = expose(&spec, &e, area, lambda, &frame_sampler(1, 0), &pattern);
+        assert_eq!(a, again);
         assert_ne!(
             a.dn,
-            expose(&spec, &e, area, lambda, &frame_sampler(1, 1)).dn
+            expose(&spec, &e, area, lambda, &frame_sampler(1, 1), &pattern).dn
         );
         assert_ne!(a.dn, off.dn);
+        // A pattern of another grid or another PRNU is not used: the right one is made.
+        let mut other = spec;
+        other.prnu *= 2.0;
+        for wrong in [FixedPattern::new(&spec, 8, 8), FixedPattern::new(&other, 16, 8)] {
+            assert!(!wrong.fits(&spec, 16, 8));
+            assert_eq!(a, expose(&spec, &e, area, lambda, &s, &wrong));
+        }
     }
 }

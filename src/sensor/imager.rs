@@ -6,7 +6,7 @@
 //! level, quantisation and blooming (`emva`, `bloom`), and falls back to `expose` when
 //! `noise` is off.
 
-use super::emva::{self, Exposure};
+use super::emva::{self, Exposure, FixedPattern};
 use super::image::Image;
 use crate::sampler::PoseSampler;
 
@@ -101,15 +101,17 @@ impl ImagerSpec {
     /// the EMVA 1288 noise model (`emva`): shot noise, dark current, read noise, PRNU/DSNU,
     /// black level, dithered quantisation, and CMOS clipping or CCD blooming. The temporal
     /// noise is keyed by `sampler` (use `emva::frame_sampler(seed, pose)`); the fixed pattern
-    /// is the same for every frame. With `noise` off, `dn` equals [`ImagerSpec::expose`].
+    /// is the sensor unit's (`SensorHead::fixed_pattern`), the same for every frame. With
+    /// `noise` off, `dn` equals [`ImagerSpec::expose`].
     pub fn expose_noisy(
         &self,
         irradiance: &Image<f64>,
         pixel_area_m2: f64,
         wavelength_m: f64,
         sampler: &PoseSampler,
+        pattern: &FixedPattern,
     ) -> Exposure {
-        emva::expose(self, irradiance, pixel_area_m2, wavelength_m, sampler)
+        emva::expose(self, irradiance, pixel_area_m2, wavelength_m, sampler, pattern)
     }
 }
 

@@ -77,15 +77,21 @@ pub struct SensorHead {
     pub config: SensorConfig,
     /// The camera model.
     pub camera: camera::Camera,
+    /// The image sensor's fixed pattern (PRNU and DSNU maps) of this simulated unit, made once
+    /// and shared by every exposure and every clone of the head.
+    pub fixed_pattern: std::sync::Arc<emva::FixedPattern>,
 }
 
 impl SensorHead {
     /// Builds the camera of `config`; fails if the measuring range does not image onto the
     /// pixel grid.
     pub fn new(config: &SensorConfig) -> Result<SensorHead, camera::CameraError> {
+        let camera = camera::Camera::new(&config.camera, &config.range)?;
+        let (w, h) = (camera.spec().columns, camera.spec().rows);
         Ok(SensorHead {
             config: config.clone(),
-            camera: camera::Camera::new(&config.camera, &config.range)?,
+            camera,
+            fixed_pattern: std::sync::Arc::new(emva::FixedPattern::new(&config.imager, w, h)),
         })
     }
 }

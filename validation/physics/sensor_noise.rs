@@ -33,7 +33,8 @@ fn irradiance_for(spec: &ImagerSpec, electrons: f64) -> f64 {
 }
 
 fn expose(spec: &ImagerSpec, e: &Image<f64>, sampler: &PoseSampler) -> Exposure {
-    spec.expose_noisy(e, AREA_M2, LAMBDA_M, sampler)
+    let pattern = FixedPattern::new(spec, e.width, e.height);
+    spec.expose_noisy(e, AREA_M2, LAMBDA_M, sampler, &pattern)
 }
 
 /// Mean of two frames and the temporal variance from their difference, σ² = var(A − B)/2,
