@@ -64,7 +64,11 @@ impl Film {
             mut by_class,
             lit,
         } = self;
-        let lit_classes = by_class.iter_mut().zip(lit).filter(|(_, l)| *l).map(|(c, _)| c);
+        let lit_classes = by_class
+            .iter_mut()
+            .zip(lit)
+            .filter(|(_, l)| *l)
+            .map(|(c, _)| c);
         for img in std::iter::once(&mut total).chain(lit_classes) {
             for v in &mut img.data {
                 *v /= pixel_area_m2;
