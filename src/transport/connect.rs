@@ -75,7 +75,7 @@ pub fn follow_chain(
     leaving: u32,
     dir: Vector3<f64>,
 ) -> Option<ChainEnd> {
-    trace_chain(scene, aperture, origin, leaving, dir, None)
+    trace_chain::<true>(scene, aperture, origin, leaving, dir, None)
 }
 
 /// The interfaces a chain crossed, in order (at most [`MAX_INTERFACES`] + 1).
@@ -85,8 +85,13 @@ struct ChainRecord {
     len: usize,
 }
 
-/// [`follow_chain`], also writing the interfaces it crosses into `record`.
-fn trace_chain(
+/// [`follow_chain`], also writing the interfaces it crosses into `record`. With `RADIOMETRY`
+/// false only the geometry is followed (where the chain goes, which interfaces it crosses,
+/// whether it is blocked: the same decisions from the same arithmetic) and the returned
+/// `transmittance` is NaN: what the seed trace of a connection and the Newton method's
+/// finite differences need, without the Stokes vector's frame rotations and Mueller matrices
+/// that only the solved chain's transmittance uses.
+fn trace_chain<const RADIOMETRY: bool>(
     scene: &TraceScene,
     aperture: &Aperture,
     origin: Point3<f64>,
@@ -96,7 +101,7 @@ fn trace_chain(
 ) -> Option<ChainEnd> {
     let (mut o, mut d, mut leaving) = (origin, dir, leaving);
     let mut stokes = Stokes::unpolarized(&d);
-    let mut transmittance = 1.0;
+    let mut transmittance = if RADIOMETRY { 1.0 } else { f64::NAN };
     let mut crossed_glass = false;
     for _ in 0..=MAX_INTERFACES {
         let t_plane = aperture.plane_distance(&o, &d)?;
@@ -113,7 +118,7 @@ fn trace_chain(
             return None;
         }
         let entering = d.dot(&hit.geometric_normal) < 0.0;
-        if !entering {
+        if RADIOMETRY && !entering {
             transmittance *= (-glass.absorption_per_m * hit.t).exp();
         }
         // Normal on the incident side, and the relative index n_t / n_i.
@@ -124,10 +129,6 @@ fn trace_chain(
         if cos_i <= 0.0 {
             return None;
         }
-        let f = fresnel_dielectric(cos_i, eta);
-        if f.tir {
-            return None;
-        }
         if let Some(r) = record.as_deref_mut() {
             r.interfaces[r.len] = Interface {
                 point: hit.point,
@@ -136,14 +137,28 @@ fn trace_chain(
             };
             r.len += 1;
         }
-        stokes.rotate_frame(&d, &s_axis(&d, &n));
-        stokes.s = apply(&mueller_transmission(&f), &stokes.s);
-        let intensity = stokes.s[0];
-        transmittance *= intensity;
-        let (wt, _) = refract(&(-d), &n, eta)?;
-        stokes.s = stokes.s.map(|v| v / intensity);
+        let wt = if RADIOMETRY {
+            let f = fresnel_dielectric(cos_i, eta);
+            if f.tir {
+                return None;
+            }
+            stokes.rotate_frame(&d, &s_axis(&d, &n));
+            stokes.s = apply(&mueller_transmission(&f), &stokes.s);
+            let intensity = stokes.s[0];
+            transmittance *= intensity;
+            let (wt, _) = refract(&(-d), &n, eta)?;
+            stokes.s = stokes.s.map(|v| v / intensity);
+            stokes.rotate_frame(&wt, &s_axis(&wt, &n));
+            wt
+        } else {
+            // `fresnel_dielectric`'s test for total internal reflection, then Snell.
+            let c = cos_i.clamp(0.0, 1.0);
+            if (1.0 - c * c) / (eta * eta) >= 1.0 {
+                return None;
+            }
+            refract(&(-d), &n, eta)?.0
+        };
         d = wt;
-        stokes.rotate_frame(&d, &s_axis(&d, &n));
         o = hit.point;
         leaving = hit.triangle;
         crossed_glass = true;
@@ -174,11 +189,19 @@ pub fn solve_connection(
         let end = follow_chain(scene, aperture, point, triangle, *w)?;
         Some((Vector2::from(aperture.plane_coords(&end.landing)), end))
     };
+    // Where a launch direction lands, geometry only (the finite differences).
+    let land_at = |w: &Vector3<f64>| -> Option<Vector2<f64>> {
+        if w.dot(&ng) * side <= 0.0 {
+            return None;
+        }
+        let end = trace_chain::<false>(scene, aperture, point, triangle, *w, None)?;
+        Some(Vector2::from(aperture.plane_coords(&end.landing)))
+    };
     // Through flat panes: the closed form of `layered`, checked by tracing its direction.
     let seed = seed.normalize();
     let mut record = ChainRecord::default();
     if seed.dot(&ng) * side > 0.0
-        && trace_chain(scene, aperture, point, triangle, seed, Some(&mut record)).is_some()
+        && trace_chain::<false>(scene, aperture, point, triangle, seed, Some(&mut record)).is_some()
     {
         let crossed = &record.interfaces[..record.len];
         if let Some(sol) = solve_layered(&point, crossed, lens_point, &aperture.axis) {
@@ -195,13 +218,13 @@ pub fn solve_connection(
     }
     let mut w = seed;
     for _ in 0..NEWTON_ITERATIONS {
-        let (c0, end) = land(&w)?;
+        let c0 = land_at(&w)?;
         let (t1, t2) = orthonormal_basis(&w);
         let h = FD_STEP_RAD;
-        let (c1p, _) = land(&(w + t1 * h).normalize())?;
-        let (c1m, _) = land(&(w - t1 * h).normalize())?;
-        let (c2p, _) = land(&(w + t2 * h).normalize())?;
-        let (c2m, _) = land(&(w - t2 * h).normalize())?;
+        let c1p = land_at(&(w + t1 * h).normalize())?;
+        let c1m = land_at(&(w - t1 * h).normalize())?;
+        let c2p = land_at(&(w + t2 * h).normalize())?;
+        let c2m = land_at(&(w - t2 * h).normalize())?;
         let j = Matrix2::from_columns(&[(c1p - c1m) / (2.0 * h), (c2p - c2m) / (2.0 * h)]);
         let residual = target - c0;
         if residual.norm() < LANDING_TOLERANCE_M {
@@ -209,6 +232,8 @@ pub fn solve_connection(
             if !(det > 0.0 && det.is_finite()) {
                 return None;
             }
+            // The same chain again, now with its Fresnel transmission and absorption.
+            let (_, end) = land(&w)?;
             return Some(Connection {
                 dir: w,
                 dw_da: 1.0 / det,
