@@ -9,7 +9,7 @@
 //! ```
 //!
 //! Seeds: reference A = {11, 12} and B = {21, 22}; N at A (same seed, criteria 2 and 3) and at
-//! C = {31, 32} (independent, criterion 1). Poses: the scene's scan with `POSES` poses (8).
+//! C = {31, 32} (independent, criterion 1). Poses: the scene's scan with `POSES` poses (16).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -21,7 +21,7 @@ use glassscan::study::convergence::{judge, sample_profiles, ProfileSample};
 use glassscan::transport::TraceScene;
 use serde_json::json;
 
-const POSES: usize = 8;
+const POSES: usize = 16;
 const MAX_DEPTH: u32 = 64;
 const REFERENCE_PHOTONS: u64 = 1 << 22;
 const SEEDS_A: [u64; 2] = [11, 12];

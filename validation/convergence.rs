@@ -14,7 +14,7 @@ use glassscan::study::convergence::{judge, sample_profiles, ProfileSample, Verdi
 use glassscan::transport::TraceScene;
 
 /// The example's settings (examples/convergence.rs).
-const POSES: usize = 8;
+const POSES: usize = 16;
 const MAX_DEPTH: u32 = 64;
 const SEEDS_A: [u64; 2] = [11, 12];
 const SEEDS_C: [u64; 2] = [31, 32];

@@ -17,6 +17,7 @@ use pyo3::prelude::*;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("DEFAULT_PHOTONS", glassscan::transport::DEFAULT_PHOTONS)?;
     m.add("GlassscanError", py.get_type::<error::GlassscanError>())?;
     m.add("InputError", py.get_type::<error::InputError>())?;
     m.add_class::<scene::Scene>()?;

@@ -44,7 +44,7 @@ pub struct DatasetArgs {
     #[arg(long)]
     pub ply_ascii: bool,
     /// Laser photons traced per sample (1000 to 2^40).
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
     pub photons: u64,
     #[command(flatten)]
     pub transport: flags::TransportArgs,

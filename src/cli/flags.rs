@@ -9,7 +9,7 @@ use crate::limits::{MAX_DEPTH, MAX_PHOTONS, MAX_POSES, MIN_PHOTONS};
 #[derive(Debug, clap::Args)]
 pub struct LightArgs {
     /// Laser photons traced per pose (1000 to 2^40).
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
     pub photons: u64,
     /// Master seed of all random numbers (light, sensor noise, error draws).
     #[arg(long, value_name = "S", default_value_t = 1)]

@@ -51,7 +51,7 @@ pub struct ScanArgs {
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Laser photons traced per pose (≥ 1000).
-    #[arg(long, value_name = "N", default_value_t = 1 << 20)]
+    #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
     pub photons: u64,
     #[command(flatten)]
     pub transport: flags::TransportArgs,

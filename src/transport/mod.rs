@@ -39,4 +39,4 @@ pub mod trace;
 pub use crate::sensor::path_class::PathClass;
 pub use film::Irradiance;
 pub use scene::{TraceScene, TransportError};
-pub use trace::{render, TraceSettings, TraceStats};
+pub use trace::{render, TraceSettings, TraceStats, DEFAULT_PHOTONS};

@@ -27,6 +27,11 @@ const CHUNK: u64 = 4096;
 /// Longest ray considered (m).
 const FAR_M: f64 = 100.0;
 
+/// The photon count per pose that every command (and the Python package) uses unless told
+/// otherwise: the smallest power of two that passes the convergence test of
+/// `study::convergence` on the shipped glass scenes (validation/results/convergence/).
+pub const DEFAULT_PHOTONS: u64 = 1 << 20;
+
 /// Settings of one rendering.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TraceSettings {

@@ -13,13 +13,14 @@ messages as the ``glassscan`` command line.
     >>> sim.profile["z_mm"][sim.profile["valid"]]  # the profile, a numpy structured array
 """
 
-from ._native import GlassscanError, InputError, __version__
+from ._native import DEFAULT_PHOTONS, GlassscanError, InputError, __version__
 from ._files import read_ideal_profile, read_image, read_irradiance, read_points, read_profile
 from ._dataset import Dataset
 from ._scene import Scene, Simulation, locate, register
 from ._tables import IDEAL_PROFILE_DTYPE, PATH_CLASSES, PROFILE_DTYPE
 
 __all__ = [
+    "DEFAULT_PHOTONS",
     "Dataset",
     "GlassscanError",
     "IDEAL_PROFILE_DTYPE",

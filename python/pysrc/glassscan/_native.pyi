@@ -4,6 +4,7 @@ from typing import Any, Dict, List, Optional, Tuple
 import numpy as np
 
 __version__: str
+DEFAULT_PHOTONS: int
 
 class GlassscanError(Exception): ...
 class InputError(GlassscanError): ...
