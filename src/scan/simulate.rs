@@ -2,6 +2,8 @@
 //! speckle, or the incoherent PSF) → image sensor (EMVA 1288 noise, full well) → profile
 //! firmware.
 
+use std::ops::Range;
+
 use super::poses::ScanPose;
 use crate::sampler::PoseSampler;
 use crate::sensor::diffraction::{AiryPsf, DIFFRACTION_OVERSAMPLING};
@@ -69,18 +71,23 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
     );
     let glint = PathClass::Glint.index();
     let (w, h) = (irradiance.total.width, irradiance.total.height);
-    let lit = |layer: &Image<f64>| layer.data.iter().any(|&v| v != 0.0);
+    // The rows that hold light, per class (`None`: the class is dark): the passes below touch
+    // only those rows and the PSF's reach around them, where the rest of the image is exactly
+    // zero before and after (a pose lights a few per cent of the pixels).
+    let bands: Vec<Option<Range<usize>>> = irradiance.by_class.iter().map(lit_rows).collect();
+    let reach = psf.pixel_radius();
+    let widen = |r: &Range<usize>| r.start.saturating_sub(reach)..(r.end + reach).min(h);
     // ratio: what multiplies a class's blurred light (1 without speckle).
     let ratio = match speckle {
         None => None,
         Some(settings) => {
             let mut rough = Image::<f64>::new(w, h);
             for (k, layer) in irradiance.by_class.iter().enumerate() {
-                if k != glint && lit(layer) {
-                    rough
-                        .data
+                if let (Some(rows), false) = (&bands[k], k == glint) {
+                    let span = rows.start * w..rows.end * w;
+                    rough.data[span.clone()]
                         .iter_mut()
-                        .zip(&layer.data)
+                        .zip(&layer.data[span])
                         .for_each(|(r, v)| *r += v);
                 }
             }
@@ -100,28 +107,41 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
     };
     let mut blurred = Image::<f64>::new(w, h);
     for (k, layer) in irradiance.by_class.iter_mut().enumerate() {
-        if !lit(layer) {
+        let Some(rows) = &bands[k] else {
             continue;
-        }
+        };
         psf.blur_into(layer, &mut blurred);
         std::mem::swap(layer, &mut blurred);
         if let (Some(ratio), false) = (&ratio, k == glint) {
-            layer
-                .data
+            let span = widen(rows);
+            let span = span.start * w..span.end * w;
+            layer.data[span.clone()]
                 .iter_mut()
-                .zip(&ratio.data)
+                .zip(&ratio.data[span])
                 .for_each(|(v, r)| *v *= r);
         }
     }
     let total = &mut irradiance.total;
     total.data.fill(0.0);
-    for layer in irradiance.by_class.iter().filter(|l| lit(l)) {
-        total
-            .data
-            .iter_mut()
-            .zip(&layer.data)
-            .for_each(|(t, v)| *t += v);
+    for (layer, rows) in irradiance.by_class.iter().zip(&bands) {
+        if let Some(rows) = rows {
+            let span = widen(rows);
+            let span = span.start * w..span.end * w;
+            total.data[span.clone()]
+                .iter_mut()
+                .zip(&layer.data[span])
+                .for_each(|(t, v)| *t += v);
+        }
     }
+}
+
+/// The rows from the first to the last that hold a non-zero pixel; `None` for a dark image.
+fn lit_rows(image: &Image<f64>) -> Option<Range<usize>> {
+    let w = image.width.max(1);
+    let lit = |row: &[f64]| row.iter().any(|&v| v != 0.0);
+    let first = image.data.chunks(w).position(lit)?;
+    let last = image.data.chunks(w).rposition(lit)?;
+    Some(first..last + 1)
 }
 
 /// The light that reaches the image plane at `pose`: the traced irradiance per path class
