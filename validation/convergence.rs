@@ -1,9 +1,10 @@
 //! The convergence test (issue 11; `glassscan::study::convergence` states it): the default
-//! photon count of `scan` and `dataset` (2^20) must give profiles that cannot be told from a
-//! 2^22-photon reference, and a photon count known to be too low (2^14) must fail, so the test
-//! has the power to see a difference. Slow tier (`cargo test --release -- --ignored`, ~2 min on
-//! 2 cores): the committed references were made by `examples/convergence.rs` (which documents
-//! the seeds and poses), and must be regenerated with it when the physics changes.
+//! photon count of every command (`transport::DEFAULT_PHOTONS`) must give profiles that cannot
+//! be told from a 2^22-photon reference on the shipped glass scenes, and a photon count known
+//! to be too low (2^14) must fail, so the test has the power to see a difference. Slow tier
+//! (`cargo test --release -- --ignored`, ~2 min on 2 cores): the committed references were made
+//! by `examples/convergence.rs` (which documents the seeds and poses), and must be regenerated
+//! with it when the physics or the sensor's noise streams change.
 
 use std::path::Path;
 
@@ -11,7 +12,7 @@ use glassscan::scan::poses::plan_border_scan;
 use glassscan::scene;
 use glassscan::sensor::SensorHead;
 use glassscan::study::convergence::{judge, sample_profiles, ProfileSample, Verdict};
-use glassscan::transport::TraceScene;
+use glassscan::transport::{TraceScene, DEFAULT_PHOTONS};
 
 /// The example's settings (examples/convergence.rs).
 const POSES: usize = 16;
@@ -50,6 +51,15 @@ fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Ver
 #[test]
 #[ignore = "slow tier: ~1 min on 2 cores"]
 fn the_default_photon_count_is_converged_on_edge_study_bare_at_40_degrees() {
-    assert!(verdict("edge_study_bare.toml", 40.0, "edge_study_bare", 1 << 20).converged);
-    assert!(!verdict("edge_study_bare.toml", 40.0, "edge_study_bare", 1 << 14).converged);
+    let (scene, results) = ("edge_study_bare.toml", "edge_study_bare");
+    assert!(verdict(scene, 40.0, results, DEFAULT_PHOTONS).converged);
+    assert!(!verdict(scene, 40.0, results, 1 << 14).converged);
+}
+
+#[test]
+#[ignore = "slow tier: ~1 min on 2 cores"]
+fn the_default_photon_count_is_converged_on_the_car_side_window_at_45_degrees() {
+    let (scene, results) = ("car_side_window.toml", "car_side_window_45");
+    assert!(verdict(scene, 45.0, results, DEFAULT_PHOTONS).converged);
+    assert!(!verdict(scene, 45.0, results, 1 << 14).converged);
 }

@@ -82,8 +82,12 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
         None => None,
         Some(settings) => {
             let mut rough = Image::<f64>::new(w, h);
+            let mut rough_rows: Option<Range<usize>> = None;
             for (k, layer) in irradiance.by_class.iter().enumerate() {
                 if let (Some(rows), false) = (&bands[k], k == glint) {
+                    rough_rows = Some(rough_rows.map_or(rows.clone(), |r| {
+                        r.start.min(rows.start)..r.end.max(rows.end)
+                    }));
                     let span = rows.start * w..rows.end * w;
                     rough.data[span.clone()]
                         .iter_mut()
@@ -98,7 +102,8 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
                 &PoseSampler::new(seed, SPECKLE_STREAM ^ pose.index as u64),
             );
             // speckled / (P∗I): the mean of the coherent image is the blurred rough light.
-            let mean = psf.blur(&rough);
+            let mut mean = Image::<f64>::new(w, h);
+            psf.blur_rows_into(&rough, rough_rows.unwrap_or(0..0), &mut mean);
             for (s, m) in speckled.data.iter_mut().zip(&mean.data) {
                 *s = if *m > 0.0 { *s / m } else { 0.0 };
             }
@@ -110,7 +115,7 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
         let Some(rows) = &bands[k] else {
             continue;
         };
-        psf.blur_into(layer, &mut blurred);
+        psf.blur_rows_into(layer, rows.clone(), &mut blurred);
         std::mem::swap(layer, &mut blurred);
         if let (Some(ratio), false) = (&ratio, k == glint) {
             let span = widen(rows);

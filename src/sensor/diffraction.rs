@@ -29,6 +29,8 @@
 //!
 //! Units: metres for lengths; kernels are dimensionless weights.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use super::image::Image;
@@ -187,12 +189,20 @@ impl AiryPsf {
     /// row-wise, and each output pixel sums its terms in an order fixed by the image alone, so
     /// the result does not depend on the thread count.
     pub fn blur_into(&self, image: &Image<f64>, out: &mut Image<f64>) {
+        self.blur_rows_into(image, 0..image.height, out);
+    }
+
+    /// [`AiryPsf::blur_into`] of an `image` that is zero outside `rows`: only those rows are
+    /// read and only the output rows within the kernel's reach of them are computed (the rest
+    /// of `out` is zero), with the same result.
+    pub fn blur_rows_into(&self, image: &Image<f64>, rows: Range<usize>, out: &mut Image<f64>) {
         let (w, h) = (image.width, image.height);
         out.width = w;
         out.height = h;
         out.data.clear();
         out.data.resize(w * h, 0.0);
-        if w == 0 || h == 0 {
+        let rows = rows.start.min(h)..rows.end.min(h);
+        if w == 0 || h == 0 || rows.is_empty() {
             return;
         }
         let r = self.pixel_radius;
@@ -201,11 +211,18 @@ impl AiryPsf {
         let mut cols: Vec<u32> = Vec::new();
         let mut start = Vec::with_capacity(h + 1);
         start.push(0);
-        for row in image.data.chunks(w) {
-            cols.extend((0..w as u32).filter(|&x| row[x as usize] != 0.0));
+        for (y, row) in image.data.chunks(w).enumerate() {
+            if rows.contains(&y) {
+                cols.extend((0..w as u32).filter(|&x| row[x as usize] != 0.0));
+            }
             start.push(cols.len());
         }
-        out.data.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+        // Output rows the kernel reaches from `rows` (the mirror at the border folds light back
+        // into rows that are within the reach anyway).
+        let (y0, y1) = (rows.start.saturating_sub(r), (rows.end + r).min(h));
+        let reached = &mut out.data[y0 * w..y1 * w];
+        reached.par_chunks_mut(w).enumerate().for_each(|(dy, row)| {
+            let y = y0 + dy;
             for ky in 0..pn {
                 // Source row y − (ky − r), mirrored at the border.
                 let sy = mirror(y as isize + r as isize - ky as isize, h);
@@ -352,6 +369,24 @@ mod tests {
         let (fast, slow) = (psf.blur(&img), blur_reference(&psf, &img));
         for (f, s) in fast.data.iter().zip(&slow.data) {
             assert!((f - s).abs() <= 1e-14 * s.abs().max(1.0), "{f} vs {s}");
+        }
+    }
+
+    #[test]
+    fn blurring_only_the_lit_rows_gives_the_whole_image_blur_bit_for_bit() {
+        // Bands in the middle and touching either border (where the mirror folds light back).
+        let psf = AiryPsf::new(658e-9, 23.5, 9.4e-6, 8);
+        let (w, h) = (40, 30);
+        for rows in [10..14, 0..2, 27..30, 0..30] {
+            let mut img = Image::new(w, h);
+            for y in rows.clone() {
+                for x in (y % 3..w).step_by(3) {
+                    img.data[y * w + x] = 1.0 + (x * y) as f64;
+                }
+            }
+            let mut banded = Image::new(1, 1);
+            psf.blur_rows_into(&img, rows.clone(), &mut banded);
+            assert_eq!(banded, psf.blur(&img), "rows {rows:?}");
         }
     }
 
