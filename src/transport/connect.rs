@@ -22,6 +22,7 @@ use nalgebra::{Matrix2, Point3, Vector2, Vector3};
 use super::layered::{solve_layered, Interface};
 use super::lens::Aperture;
 use super::scene::TraceScene;
+use crate::geometry::accel::Hit;
 use crate::geometry::mesh::SurfacePart;
 use crate::optics::fresnel::fresnel_dielectric;
 use crate::optics::lambert::orthonormal_basis;
@@ -252,6 +253,52 @@ pub fn solve_connection(
     None
 }
 
+/// The connection from `vertex` to `lens_point` through the flat slab whose face the straight
+/// segment meets at `entry`, if the scene knows that face's far face (`TraceScene::slab_faces`):
+/// the closed form of `layered` for the two planes, kept only if the chain traced along its
+/// direction lands on the lens point (which also rules out anything else in the way). This
+/// skips the seed chain that [`solve_connection`] traces to find the planes, three of the
+/// seven ray queries of a connection through a pane; `None` hands the connection to it.
+fn through_slab(
+    scene: &TraceScene,
+    aperture: &Aperture,
+    vertex: &VertexOnSurface,
+    lens_point: &Point3<f64>,
+    entry: &Hit,
+) -> Option<Connection> {
+    let slab = scene.slab_faces[entry.triangle as usize]?;
+    let glass = scene.glass(entry.material)?;
+    let chord = lens_point - vertex.point;
+    if chord.dot(&entry.geometric_normal) >= 0.0 {
+        return None;
+    }
+    let interfaces = [
+        Interface {
+            point: entry.point,
+            normal: entry.shading_normal,
+            index_before: 1.0,
+        },
+        Interface {
+            point: entry.point - entry.geometric_normal * slab.thickness_m,
+            normal: slab.normal,
+            index_before: glass.eta,
+        },
+    ];
+    let sol = solve_layered(&vertex.point, &interfaces, lens_point, &aperture.axis)?;
+    // The launch side of the straight segment, as `solve_connection` keeps it.
+    if sol.dir.dot(&vertex.ng) * chord.dot(&vertex.ng) <= 0.0 {
+        return None;
+    }
+    let end = follow_chain(scene, aperture, vertex.point, vertex.triangle, sol.dir)?;
+    let landing = Vector2::from(aperture.plane_coords(&end.landing));
+    let target = Vector2::from(aperture.plane_coords(lens_point));
+    ((target - landing).norm() < LAYERED_LANDING_TOLERANCE_M).then_some(Connection {
+        dir: sol.dir,
+        dw_da: sol.dw_da,
+        end,
+    })
+}
+
 /// A scattering vertex as the connections need it: the exact surface point, the triangle's
 /// outward geometric normal, and the triangle (which rays leaving the vertex skip).
 #[derive(Clone, Copy, Debug)]
@@ -324,7 +371,8 @@ pub fn connect(
         }
         Some(hit) if scene.glass(hit.material).is_some() => {
             if may_land_once() {
-                out[0] = solve_connection(scene, aperture, vertex, lens_point, s);
+                out[0] = through_slab(scene, aperture, vertex, lens_point, &hit)
+                    .or_else(|| solve_connection(scene, aperture, vertex, lens_point, s));
             }
         }
         Some(_) => {}

@@ -1,9 +1,12 @@
 //! The scene as the tracer sees it: all triangles in the base frame in one BVH, the surface
 //! model of every material at the laser wavelength, and each object's label.
 
+use nalgebra::{Point3, Vector3};
+
 use super::connect::MAX_INTERFACES;
 use super::deviation::DeviationBound;
 use crate::geometry::accel::{SceneAccel, SceneTriangle};
+use crate::geometry::mesh::SurfacePart;
 use crate::optics::lambert::Lambertian;
 use crate::scene::world::{Material, ObjectLabel, World};
 use crate::sensor::path_class::PathClass;
@@ -55,6 +58,54 @@ pub struct TraceScene {
     /// tracer skip connections that cannot land on the sensor. `None` solves every one (set it
     /// to `None` to check that the bound changes nothing).
     pub deviation: Option<DeviationBound>,
+    /// Per triangle (as in `Hit::triangle`): for a face of a flat glass slab, its far face,
+    /// which lets a camera connection through the slab be solved without tracing a seed chain
+    /// first (`connect`); `None` elsewhere.
+    pub slab_faces: Vec<Option<SlabFace>>,
+}
+
+/// The far face of a flat glass slab, as seen from one of its face triangles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlabFace {
+    /// Distance between the two faces' planes along the near face's normal (m).
+    pub thickness_m: f64,
+    /// The far face's shading normal (outward, anti-parallel to the near face's).
+    pub normal: Vector3<f64>,
+}
+
+/// Two face normals count as anti-parallel (a flat slab) within this angle (rad): the
+/// tolerance of `layered`, whose closed form is exact for them.
+const SLAB_PARALLEL_RAD: f64 = 1e-12;
+
+/// The far faces of the flat glass slabs: from the centroid of every glass face triangle, a ray
+/// into the glass along the inward normal; the face it meets is the far face if it belongs to
+/// the same object and material, is not the edge finish and is anti-parallel. One ray per glass
+/// face triangle, once per scene. Only a hint: a connection solved with it is kept only if its
+/// traced chain lands on the lens point.
+fn slab_faces(accel: &SceneAccel, surfaces: &[SurfaceModel]) -> Vec<Option<SlabFace>> {
+    (0..accel.triangle_count() as u32)
+        .map(|i| {
+            let t = accel.triangle(i);
+            let glass = matches!(surfaces[t.material as usize], SurfaceModel::Glass(_));
+            if !glass || t.part == SurfacePart::Edge {
+                return None;
+            }
+            let [a, b, c] = t.vertices;
+            let n = (b - a).cross(&(c - a)).try_normalize(0.0)?;
+            let centroid = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+            let far = accel.closest_hit_leaving(&centroid, &-n, i, 1.0)?;
+            let same_slab = far.object == t.object
+                && far.material == t.material
+                && far.part != SurfacePart::Edge
+                && far.geometric_normal.cross(&n).norm() <= SLAB_PARALLEL_RAD
+                && far.geometric_normal.dot(&n) < 0.0
+                && far.shading_normal.cross(&n).norm() <= SLAB_PARALLEL_RAD;
+            same_slab.then_some(SlabFace {
+                thickness_m: far.t,
+                normal: far.shading_normal,
+            })
+        })
+        .collect()
 }
 
 impl TraceScene {
@@ -107,11 +158,13 @@ impl TraceScene {
             .collect();
         let accel = SceneAccel::build(triangles);
         let deviation = DeviationBound::of_scene(&accel, &surfaces, MAX_INTERFACES);
+        let slab_faces = slab_faces(&accel, &surfaces);
         Ok(TraceScene {
             accel,
             surfaces,
             direct_class,
             deviation,
+            slab_faces,
         })
     }
 
