@@ -390,3 +390,98 @@ pub fn connect(
         culled: checked == Some(false),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scan::poses::plan_border_scan;
+    use crate::sensor::SensorHead;
+    use std::path::Path;
+
+    /// The edge-study pane on its table: the scene, the sensor and its first scan pose.
+    fn edge_study() -> (TraceScene, SensorHead, crate::scan::poses::ScanPose) {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let world = crate::scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
+        let head = SensorHead::new(&world.sensor).unwrap();
+        let border = world.true_border_in_base().unwrap();
+        let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
+        (TraceScene::new(&world).unwrap(), head, pose)
+    }
+
+    #[test]
+    fn every_face_of_a_flat_pane_knows_its_far_face_and_the_edge_none() {
+        let (scene, _, _) = edge_study();
+        let (mut faces, mut edges) = (0, 0);
+        for i in 0..scene.accel.triangle_count() as u32 {
+            let t = scene.accel.triangle(i);
+            let slab = scene.slab_faces[i as usize];
+            match (scene.glass(t.material), t.part) {
+                (Some(_), SurfacePart::Edge) | (None, _) => assert_eq!(slab, None),
+                (Some(_), _) => {
+                    // edge_study_bare.toml: thickness_mm = 4.
+                    let slab = slab.expect("a face of the flat pane");
+                    assert!((slab.thickness_m - 4e-3).abs() < 1e-12, "{slab:?}");
+                    faces += 1;
+                }
+            }
+            edges += usize::from(t.part == SurfacePart::Edge);
+        }
+        assert!(
+            faces > 100 && edges > 100,
+            "{faces} faces, {edges} edge triangles"
+        );
+    }
+
+    #[test]
+    fn a_connection_through_the_slab_is_the_one_the_seed_chain_finds() {
+        // Points of the table under the pane, connected to lens points across the aperture:
+        // the slab's closed form and the general solver (seed chain, then `layered`) agree.
+        let (scene, head, pose) = edge_study();
+        let aperture = Aperture::new(&head.camera, &pose.sensor);
+        let mut compared = 0;
+        for k in 0..40 {
+            // Table points 1 to 20 mm from p_e towards the pane's centre (the pane is centred
+            // on the origin of the base frame).
+            let inward = (-pose.edge_point.coords).xy().normalize();
+            let d = 1e-3 + 0.5e-3 * k as f64;
+            let x = Point3::new(
+                pose.edge_point.x + inward.x * d,
+                pose.edge_point.y + inward.y * d,
+                -1e-3,
+            );
+            // The table's top (z = 0) from below, so the pane above is not met first.
+            let Some(floor) = scene.accel.closest_hit(&x, &Vector3::z(), 0.0, 2e-3) else {
+                continue;
+            };
+            if scene.glass(floor.material).is_some() {
+                continue;
+            }
+            let vertex = VertexOnSurface {
+                point: floor.point,
+                ng: floor.geometric_normal,
+                triangle: floor.triangle,
+            };
+            let lens_point = aperture.point([(k % 5) as f64 * 0.2 - 0.4, 0.3]);
+            let s = (lens_point - vertex.point).normalize();
+            let dist = (lens_point - vertex.point).norm();
+            let Some(entry) =
+                scene
+                    .accel
+                    .closest_hit_leaving(&vertex.point, &s, vertex.triangle, dist)
+            else {
+                continue;
+            };
+            let (Some(fast), Some(general)) = (
+                through_slab(&scene, &aperture, &vertex, &lens_point, &entry),
+                solve_connection(&scene, &aperture, &vertex, &lens_point, s),
+            ) else {
+                continue;
+            };
+            assert!((fast.dir - general.dir).norm() < 1e-12);
+            assert!((fast.dw_da / general.dw_da - 1.0).abs() < 1e-9);
+            assert!((fast.end.transmittance - general.end.transmittance).abs() < 1e-12);
+            compared += 1;
+        }
+        assert!(compared >= 20, "{compared} connections compared");
+    }
+}
