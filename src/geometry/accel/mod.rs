@@ -1,32 +1,45 @@
-//! Ray queries against the whole scene: the only module that names obvhs.
+//! Ray queries against the whole scene: an 8-wide BVH of our own, built from obvhs's binary
+//! BVH (the only module that names obvhs).
 //!
-//! Triangles are handed to obvhs in f32, in the base frame, and reordered once into the BVH's
-//! primitive order so the hot loop indexes them directly. obvhs returns only the hit distance;
-//! barycentrics come from `RtTriangle::compute_barycentric`, which is correct in obvhs 0.4.0
-//! (p = (1−u−v)·v0 + u·v1 + v·v2), unlike `Triangle::compute_barycentric`, whose u and v
-//! obvhs 0.4.0 scales by twice the area (an 11.8 mm point error measured on a 100k-triangle
-//! panel).
+//! - `build.rs`: obvhs's PLOC binary BVH (`medium_build`, leaves of at most four triangles)
+//!   collapsed into nodes of eight children with their boxes as structure of arrays; the
+//!   triangles copied in BVH order into packets of four.
+//! - `traverse.rs`: single-ray traversal, eight boxes per AVX2 instruction (SSE2 or scalar
+//!   where AVX2 is missing, chosen at run time), near to far, a fixed stack, a conservative
+//!   f32 box test.
+//! - `triangles.rs`: the packets and their f32 test, bit for bit obvhs 0.4.0's Möller–Trumbore.
+//! - `queries.rs`: closest hit, closest hit leaving a triangle, any hit.
 //!
-//! Units: obvhs sees millimetres, not metres. Its CWBVH node test clamps the entry distance to
-//! `EPSILON = 1e-4` scene units (obvhs 0.4.0 `cwbvh/node.rs`), so in metres every box that a
-//! ray leaves within 0.1 mm of its origin is culled: a ray from a table 10 µm under a glass
-//! pane misses the pane. In millimetres that blind zone is 0.1 µm; f32 still resolves ~0.06 µm over a
-//! metre, and hits are refined in f64 anyway.
+//! The f32 traversal only *chooses the triangle*: `make_hit` recomputes the distance, point
+//! and barycentrics in f64 from each triangle's exact data. Ties (equal f32 distances) go to the
+//! lower input index, so the choice is the brute-force loop's, whatever the BVH's layout.
+//!
+//! Units: the BVH sees millimetres, not metres. f32 resolves ~0.06 µm over a metre in mm; the
+//! earlier obvhs CWBVH also clamped box entry distances to 10⁻⁴ units, which in metres culled
+//! every box a ray left within 0.1 mm of its origin (a ray from a table 10 µm under a glass pane
+//! missed the pane). This BVH culls nothing near the origin; the unit stays (hits are refined in
+//! f64 anyway, and `limits` bounds scene lengths for f32 in these units).
 //!
 //! Rays that leave a surface start at the exact hit point and skip the triangle they leave
 //! (`closest_hit_leaving`), so no offset moves a ray's line.
 
-use std::time::Duration;
+mod build;
+mod queries;
+// std::arch intrinsics (SIMD loads, AVX2 behind runtime detection): the crate's only unsafe code.
+#[allow(unsafe_code)]
+mod traverse;
+#[allow(unsafe_code)]
+mod triangles;
 
 use glam::Vec3A;
 use nalgebra::{Point3, Vector3};
-use obvhs::cwbvh::builder::build_cwbvh_from_tris;
-use obvhs::cwbvh::CwBvh;
-use obvhs::ray::{Ray, RayHit};
 use obvhs::rt_triangle::RtTriangle;
 use obvhs::triangle::Triangle;
-use obvhs::BvhBuildParams;
 
+use self::build::WideBvh;
+use self::queries::{Any, Closest, Found, Leaving};
+use self::traverse::{traverse, Simd};
+use self::triangles::{Ray, LANES};
 use super::mesh::SurfacePart;
 
 /// One triangle of the scene in the base frame, with what it belongs to.
@@ -67,13 +80,11 @@ pub struct Hit {
     pub triangle: u32,
 }
 
-/// A compressed-wide BVH over the scene's triangles.
+/// An 8-wide BVH over the scene's triangles.
 pub struct SceneAccel {
-    bvh: CwBvh,
-    /// Triangles in BVH primitive order.
-    rt: Vec<RtTriangle>,
-    /// Index into `input` for each entry of `rt`.
-    source: Vec<u32>,
+    bvh: WideBvh,
+    /// The node test this CPU runs.
+    simd: Simd,
     input: Vec<SceneTriangle>,
     /// The f64 quantities of each input triangle that completing a hit needs, computed once
     /// (the same expressions as before, so hits are bit for bit what they were).
@@ -133,26 +144,49 @@ pub const NEAR_HIT_M: f64 = 1e-5;
 /// scenes keep 10 µm between objects). A ray's line is never moved; it only skips this much.
 pub const SELF_HIT_T_MIN_M: f64 = 1e-8;
 
-fn to_vec3a(p: &Point3<f64>) -> Vec3A {
+/// A point in BVH units (f32 mm).
+fn to_bvh(p: &Point3<f64>) -> [f32; 3] {
     let p = p * BVH_UNITS_PER_M;
-    Vec3A::new(p.x as f32, p.y as f32, p.z as f32)
+    [p.x as f32, p.y as f32, p.z as f32]
 }
 
 fn to_ray(origin: &Point3<f64>, dir: &Vector3<f64>, t_min: f64, t_max: f64) -> Ray {
-    // `+ 0.0` turns a negative zero into a positive one: obvhs 0.4.0's CWBVH traversal misses
-    // every box for a direction component of −0.0 (its reciprocal −∞ breaks the node test; a
-    // ray along (−0, −0, −1) from above a pane found nothing). Regression test below.
-    Ray::new(
-        to_vec3a(origin),
-        Vec3A::new(dir.x as f32 + 0.0, dir.y as f32 + 0.0, dir.z as f32 + 0.0),
-        (t_min * BVH_UNITS_PER_M) as f32,
-        (t_max * BVH_UNITS_PER_M).min(f32::MAX as f64) as f32,
-    )
+    // `+ 0.0` turns a negative zero into a positive one. obvhs 0.4.0's CWBVH traversal missed
+    // every box for a direction component of −0.0; this BVH's box test does not care, but the
+    // triangle test's sign checks see the zero's sign, and keeping +0.0 keeps every hit what it
+    // was (regression test below).
+    Ray {
+        origin: to_bvh(origin),
+        dir: [dir.x as f32 + 0.0, dir.y as f32 + 0.0, dir.z as f32 + 0.0],
+        t_min: (t_min * BVH_UNITS_PER_M) as f32,
+        t_max: (t_max * BVH_UNITS_PER_M).min(f32::MAX as f64) as f32,
+    }
+}
+
+impl ExactTriangle {
+    /// Distance (m) along `origin + t·dir` to the triangle in f64 (Möller–Trumbore), or `None`
+    /// if the ray misses it or runs parallel to it.
+    fn intersect(&self, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<f64> {
+        let ExactTriangle { a, e1, e2, .. } = *self;
+        let p = dir.cross(&e2);
+        let det = e1.dot(&p);
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = origin - a;
+        let u = s.dot(&p) * inv;
+        let q = s.cross(&e1);
+        let v = dir.dot(&q) * inv;
+        if u < 0.0 || v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        Some(e2.dot(&q) * inv)
+    }
 }
 
 impl SceneAccel {
-    /// Builds the BVH (obvhs CWBVH, `medium_build` preset). Panics on an empty slice: the scene
-    /// loader refuses empty scenes.
+    /// Builds the BVH. Panics on an empty slice: the scene loader refuses empty scenes.
     pub fn build(triangles: Vec<SceneTriangle>) -> SceneAccel {
         assert!(
             !triangles.is_empty(),
@@ -160,24 +194,16 @@ impl SceneAccel {
         );
         let tris: Vec<Triangle> = triangles
             .iter()
-            .map(|t| Triangle {
-                v0: to_vec3a(&t.vertices[0]),
-                v1: to_vec3a(&t.vertices[1]),
-                v2: to_vec3a(&t.vertices[2]),
+            .map(|t| {
+                let [v0, v1, v2] = t.vertices.map(|v| Vec3A::from(to_bvh(&v)));
+                Triangle { v0, v1, v2 }
             })
             .collect();
-        let mut build_time = Duration::ZERO;
-        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut build_time);
-        let source: Vec<u32> = bvh.primitive_indices.clone();
-        let rt = source
-            .iter()
-            .map(|&i| RtTriangle::from(&tris[i as usize]))
-            .collect();
+        let bvh = build::build(&tris);
         let exact = triangles.iter().map(ExactTriangle::new).collect();
         SceneAccel {
             bvh,
-            rt,
-            source,
+            simd: Simd::detect(),
             input: triangles,
             exact,
         }
@@ -194,6 +220,9 @@ impl SceneAccel {
     }
 
     /// The closest hit along `origin + t·dir` with t in [t_min, t_max]; `dir` must be unit length.
+    ///
+    /// The f32 test decides: t = t_max itself is not a hit, and of two triangles at the same
+    /// f32 distance the one with the lower input index is chosen.
     pub fn closest_hit(
         &self,
         origin: &Point3<f64>,
@@ -202,14 +231,9 @@ impl SceneAccel {
         t_max: f64,
     ) -> Option<Hit> {
         let ray = to_ray(origin, dir, t_min, t_max);
-        let mut hit = RayHit::none();
-        if !self
-            .bvh
-            .ray_traverse(ray, &mut hit, |r, id| self.rt[id].intersect(r))
-        {
-            return None;
-        }
-        Some(self.make_bvh_hit(hit.primitive_id as usize, &ray, hit.t, origin, dir))
+        let mut q = Closest::new(&ray);
+        traverse(&self.bvh, self.simd, &ray, &mut q);
+        q.found().map(|f| self.make_bvh_hit(f, &ray, origin, dir))
     }
 
     /// The closest hit along a ray that starts exactly on a surface, at `origin` on triangle
@@ -232,50 +256,21 @@ impl SceneAccel {
     ) -> Option<Hit> {
         let ray = to_ray(origin, dir, 0.0, t_max);
         let near = (NEAR_HIT_M * BVH_UNITS_PER_M) as f32;
-        let mut hit = RayHit::none();
-        let found = self.bvh.ray_traverse(ray, &mut hit, |r, id| {
-            let tri = self.source[id];
-            if tri == leaving {
-                return f32::INFINITY;
-            }
-            let t = self.rt[id].intersect(r);
-            if t >= near {
-                return t;
-            }
-            match self.intersect_f64(tri, origin, dir) {
-                Some(t64) if t64 >= SELF_HIT_T_MIN_M && t64 <= t_max => {
-                    (t64 * BVH_UNITS_PER_M) as f32
-                }
-                _ => f32::INFINITY,
-            }
-        });
-        if !found {
-            return None;
-        }
-        Some(self.make_bvh_hit(hit.primitive_id as usize, &ray, hit.t, origin, dir))
+        let mut q = Leaving::new(
+            &ray,
+            leaving,
+            near,
+            origin,
+            dir,
+            &self.exact,
+            (SELF_HIT_T_MIN_M, t_max),
+            BVH_UNITS_PER_M,
+        );
+        traverse(&self.bvh, self.simd, &ray, &mut q);
+        q.found().map(|f| self.make_bvh_hit(f, &ray, origin, dir))
     }
 
-    /// Distance (m) along `origin + t·dir` to input triangle `tri` in f64 (Möller–Trumbore),
-    /// or `None` if the ray misses it or runs parallel to it.
-    fn intersect_f64(&self, tri: u32, origin: &Point3<f64>, dir: &Vector3<f64>) -> Option<f64> {
-        let ExactTriangle { a, e1, e2, .. } = self.exact[tri as usize];
-        let p = dir.cross(&e2);
-        let det = e1.dot(&p);
-        if det == 0.0 || !det.is_finite() {
-            return None;
-        }
-        let inv = 1.0 / det;
-        let s = origin - a;
-        let u = s.dot(&p) * inv;
-        let q = s.cross(&e1);
-        let v = dir.dot(&q) * inv;
-        if u < 0.0 || v < 0.0 || u + v > 1.0 {
-            return None;
-        }
-        Some(e2.dot(&q) * inv)
-    }
-
-    /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max] (`dir` unit length).
+    /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max) (`dir` unit length).
     pub fn occluded(
         &self,
         origin: &Point3<f64>,
@@ -284,12 +279,13 @@ impl SceneAccel {
         t_max: f64,
     ) -> bool {
         let ray = to_ray(origin, dir, t_min, t_max);
-        !self
-            .bvh
-            .ray_traverse_miss(ray, |r, id| self.rt[id].intersect(r))
+        let mut q = Any::new(&ray);
+        traverse(&self.bvh, self.simd, &ray, &mut q);
+        q.hit
     }
 
-    /// Reference closest hit by testing every triangle (for tests and debugging).
+    /// Reference closest hit by testing every triangle (for tests and debugging), with obvhs's
+    /// scalar f32 test: the least (t, input index) with t in [t_min, t_max].
     pub fn closest_hit_brute_force(
         &self,
         origin: &Point3<f64>,
@@ -298,45 +294,38 @@ impl SceneAccel {
         t_max: f64,
     ) -> Option<Hit> {
         let ray = to_ray(origin, dir, t_min, t_max);
+        let rt_of = |t: &SceneTriangle| {
+            let [v0, v1, v2] = t.vertices.map(|v| Vec3A::from(to_bvh(&v)));
+            RtTriangle::new(v0, v1, v2)
+        };
+        let obvhs_ray = triangles::obvhs_ray(&ray);
         let mut best: Option<(usize, f32)> = None;
         for (i, t) in self.input.iter().enumerate() {
-            let rt = RtTriangle::new(
-                to_vec3a(&t.vertices[0]),
-                to_vec3a(&t.vertices[1]),
-                to_vec3a(&t.vertices[2]),
-            );
-            let d = rt.intersect(&ray);
+            let d = rt_of(t).intersect(&obvhs_ray);
             if d.is_finite() && best.is_none_or(|(_, b)| d < b) {
                 best = Some((i, d));
             }
         }
         best.map(|(i, d)| {
-            let t = &self.input[i];
-            let rt = RtTriangle::new(
-                to_vec3a(&t.vertices[0]),
-                to_vec3a(&t.vertices[1]),
-                to_vec3a(&t.vertices[2]),
-            );
-            let b = rt.compute_barycentric(&ray);
-            self.make_hit(i as u32, origin, dir, || {
-                (d as f64 / BVH_UNITS_PER_M, b.x, b.y)
-            })
+            let (u, v) = triangles::barycentric(&rt_of(&self.input[i]), &ray);
+            self.make_hit(i as u32, origin, dir, || (d as f64 / BVH_UNITS_PER_M, u, v))
         })
     }
 
-    /// [`Self::make_hit`] for entry `id` of the BVH's primitive order, found at distance `t_bvh`
-    /// (BVH units) along `ray`; obvhs's f32 barycentrics are computed only if they are needed.
+    /// [`Self::make_hit`] for the triangle the traversal `found`; its f32 barycentrics are
+    /// computed only if they are needed.
     fn make_bvh_hit(
         &self,
-        id: usize,
+        found: Found,
         ray: &Ray,
-        t_bvh: f32,
         origin: &Point3<f64>,
         dir: &Vector3<f64>,
     ) -> Hit {
-        self.make_hit(self.source[id], origin, dir, || {
-            let b = self.rt[id].compute_barycentric(ray);
-            (t_bvh as f64 / BVH_UNITS_PER_M, b.x, b.y)
+        self.make_hit(found.id, origin, dir, || {
+            let slot = found.slot as usize;
+            let rt = self.bvh.packets[slot / LANES].lane(slot % LANES);
+            let (u, v) = triangles::barycentric(&rt, ray);
+            (found.t as f64 / BVH_UNITS_PER_M, u, v)
         })
     }
 
