@@ -37,7 +37,7 @@ use obvhs::rt_triangle::RtTriangle;
 use obvhs::triangle::Triangle;
 
 use self::build::WideBvh;
-use self::queries::{Any, Closest, Found, Leaving};
+use self::queries::{Any, Closest, Found, HitData, Leaving};
 use self::traverse::{traverse, Simd};
 use self::triangles::{Ray, LANES};
 use super::mesh::SurfacePart;
@@ -91,8 +91,10 @@ pub struct SceneAccel {
     exact: Vec<ExactTriangle>,
 }
 
-/// One triangle's f64 edge vectors, normal and Gram matrix.
+/// One triangle's f64 edge vectors, normal and Gram matrix (160 bytes, aligned so that they
+/// span three cache lines, not four).
 #[derive(Clone, Copy, Debug)]
+#[repr(align(32))]
 struct ExactTriangle {
     a: Point3<f64>,
     e1: Vector3<f64>,
@@ -209,6 +211,13 @@ impl SceneAccel {
         }
     }
 
+    fn hit_data(&self) -> HitData<'_> {
+        HitData {
+            exact: &self.exact,
+            input: &self.input,
+        }
+    }
+
     /// Number of input triangles.
     pub fn triangle_count(&self) -> usize {
         self.input.len()
@@ -231,7 +240,7 @@ impl SceneAccel {
         t_max: f64,
     ) -> Option<Hit> {
         let ray = to_ray(origin, dir, t_min, t_max);
-        let mut q = Closest::new(&ray);
+        let mut q = Closest::new(&ray, self.hit_data());
         traverse(&self.bvh, self.simd, &ray, &mut q);
         q.found().map(|f| self.make_bvh_hit(f, &ray, origin, dir))
     }
@@ -262,7 +271,7 @@ impl SceneAccel {
             near,
             origin,
             dir,
-            &self.exact,
+            self.hit_data(),
             (SELF_HIT_T_MIN_M, t_max),
             BVH_UNITS_PER_M,
         );
@@ -422,35 +431,158 @@ mod tests {
 
     #[test]
     fn bvh_matches_brute_force() {
-        let accel = SceneAccel::build(cloud(2000));
-        let mut hits = 0;
-        for i in 0..2000 {
-            let a = i as f64 * 0.618_033_988_75;
-            let b = i as f64 * 0.754_877_666_25;
-            let dir = Vector3::new(a.sin() * b.cos(), a.sin() * b.sin(), a.cos()).normalize();
-            let origin = Point3::new(0.01 * (i % 7) as f64, -0.02, 0.003 * (i % 5) as f64);
-            let fast = accel.closest_hit(&origin, &dir, 0.0, 10.0);
-            let slow = accel.closest_hit_brute_force(&origin, &dir, 0.0, 10.0);
-            match (fast, slow) {
-                (Some(f), Some(s)) => {
-                    hits += 1;
-                    assert!((f.t - s.t).abs() < 1e-6, "ray {i}: {} vs {}", f.t, s.t);
-                    assert!((f.point - s.point).norm() < 1e-6);
+        let mut accel = SceneAccel::build(cloud(2000));
+        for simd in Simd::available() {
+            accel.simd = simd;
+            let mut hits = 0;
+            for i in 0..2000 {
+                let a = i as f64 * 0.618_033_988_75;
+                let b = i as f64 * 0.754_877_666_25;
+                let dir = Vector3::new(a.sin() * b.cos(), a.sin() * b.sin(), a.cos()).normalize();
+                let origin = Point3::new(0.01 * (i % 7) as f64, -0.02, 0.003 * (i % 5) as f64);
+                let fast = accel.closest_hit(&origin, &dir, 0.0, 10.0);
+                let slow = accel.closest_hit_brute_force(&origin, &dir, 0.0, 10.0);
+                match (fast, slow) {
+                    (Some(f), Some(s)) => {
+                        hits += 1;
+                        // Ties go to the lower index in both, so the same triangle and the
+                        // same f64 completion.
+                        assert_eq!(f.triangle, s.triangle, "{simd:?} ray {i}");
+                        assert_eq!(f.t.to_bits(), s.t.to_bits(), "{simd:?} ray {i}");
+                    }
+                    (None, None) => {}
+                    (f, s) => panic!("{simd:?} ray {i}: bvh {f:?} vs brute force {s:?}"),
                 }
-                (None, None) => {}
-                (f, s) => panic!("ray {i}: bvh {f:?} vs brute force {s:?}"),
+                assert_eq!(
+                    accel.occluded(&origin, &dir, 0.0, 10.0),
+                    slow.is_some(),
+                    "{simd:?} ray {i}"
+                );
             }
-            assert_eq!(
-                accel.occluded(&origin, &dir, 0.0, 10.0),
-                accel
-                    .closest_hit_brute_force(&origin, &dir, 0.0, 10.0)
-                    .is_some()
+            assert!(
+                hits > 100,
+                "only {hits} hits: the test does not exercise the BVH"
             );
         }
-        assert!(
-            hits > 100,
-            "only {hits} hits: the test does not exercise the BVH"
-        );
+    }
+
+    /// `closest_hit_leaving` by testing every triangle: the least (t, index) over triangles
+    /// other than `leaving` whose f32 distance is in [0, t_max) after near candidates are
+    /// replaced by their f64 distance (kept only in [SELF_HIT_T_MIN_M, t_max]).
+    fn leaving_brute_force(
+        accel: &SceneAccel,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        leaving: u32,
+        t_max: f64,
+    ) -> Option<(u32, f32)> {
+        let ray = to_ray(origin, dir, 0.0, t_max);
+        let obvhs_ray = triangles::obvhs_ray(&ray);
+        let near = (NEAR_HIT_M * BVH_UNITS_PER_M) as f32;
+        let mut best: Option<(u32, f32)> = None;
+        for (i, tri) in accel.input.iter().enumerate() {
+            if i as u32 == leaving {
+                continue;
+            }
+            let [v0, v1, v2] = tri.vertices.map(|v| Vec3A::from(to_bvh(&v)));
+            let mut t = RtTriangle::new(v0, v1, v2).intersect(&obvhs_ray);
+            if !t.is_finite() {
+                continue;
+            }
+            if t < near {
+                match accel.exact[i].intersect(origin, dir) {
+                    Some(t64) if (SELF_HIT_T_MIN_M..=t_max).contains(&t64) => {
+                        t = (t64 * BVH_UNITS_PER_M) as f32;
+                    }
+                    _ => continue,
+                }
+            }
+            if t < ray.t_max && best.is_none_or(|(_, b)| t < b) {
+                best = Some((i as u32, t));
+            }
+        }
+        best
+    }
+
+    /// Rays leaving a height field (shared edges and vertices, neighbours at t ≈ 0) from exact
+    /// points on its triangles, at its vertices and edges included, in every direction: the
+    /// BVH chooses what brute force chooses, with every node test.
+    #[test]
+    fn leaving_rays_match_brute_force() {
+        let n = 24;
+        let h = |i: usize, j: usize| {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            Point3::new(x, y, 0.01 * (9.0 * x).sin() * (7.0 * y).cos())
+        };
+        let mut tris = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (h(i, j), h(i + 1, j), h(i + 1, j + 1), h(i, j + 1));
+                tris.push(tri(a.into(), b.into(), c.into(), 0));
+                tris.push(tri(a.into(), c.into(), d.into(), 0));
+            }
+        }
+        // A second sheet 3 µm above the first, so that rays meet it within NEAR_HIT_M.
+        let lifted: Vec<SceneTriangle> = tris
+            .iter()
+            .map(|t| {
+                let mut t = *t;
+                t.vertices = t.vertices.map(|v| v + Vector3::new(0.0, 0.0, 3e-6));
+                t.object = 1;
+                t
+            })
+            .collect();
+        tris.extend(lifted);
+        let mut accel = SceneAccel::build(tris);
+        let count = accel.triangle_count() as u64;
+        let mut compared = 0;
+        for simd in Simd::available() {
+            accel.simd = simd;
+            for k in 0..3000u64 {
+                let g = |d: u64| {
+                    let mut x = (k * 8 + d).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+                    x ^= x >> 29;
+                    x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                    x ^= x >> 32;
+                    (x >> 11) as f64 / (1u64 << 53) as f64
+                };
+                let leaving = ((g(0) * count as f64) as u32).min(count as u32 - 1);
+                let [a, b, c] = accel.input[leaving as usize].vertices;
+                // Vertices, edge midpoints and interior points.
+                let (u, v) = match k % 4 {
+                    0 => (
+                        [0.0, 1.0, 0.0][(k / 4 % 3) as usize],
+                        [0.0, 0.0, 1.0][(k / 4 % 3) as usize],
+                    ),
+                    1 => (
+                        [0.5, 0.0, 0.5][(k / 4 % 3) as usize],
+                        [0.0, 0.5, 0.5][(k / 4 % 3) as usize],
+                    ),
+                    _ => {
+                        let (u, v) = (g(1), g(2));
+                        if u + v > 1.0 {
+                            (1.0 - u, 1.0 - v)
+                        } else {
+                            (u, v)
+                        }
+                    }
+                };
+                let origin = a + (b - a) * u + (c - a) * v;
+                let z = 2.0 * g(3) - 1.0;
+                let phi = std::f64::consts::TAU * g(4);
+                let r = (1.0 - z * z).sqrt();
+                let dir = Vector3::new(r * phi.cos(), r * phi.sin(), z);
+                let fast = accel.closest_hit_leaving(&origin, &dir, leaving, 2.0);
+                let slow = leaving_brute_force(&accel, &origin, &dir, leaving, 2.0);
+                assert_eq!(
+                    fast.map(|h| h.triangle),
+                    slow.map(|s| s.0),
+                    "{simd:?} ray {k} leaving {leaving}"
+                );
+                compared += fast.is_some() as usize;
+            }
+        }
+        assert!(compared > 2000, "only {compared} hits");
     }
 
     #[test]

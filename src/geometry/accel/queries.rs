@@ -10,8 +10,8 @@
 use nalgebra::{Point3, Vector3};
 
 use super::traverse::Visitor;
-use super::triangles::{Ray, TrianglePacket, LANES};
-use super::ExactTriangle;
+use super::triangles::{prefetch, Ray, TrianglePacket, LANES};
+use super::{ExactTriangle, SceneTriangle};
 
 /// The chosen triangle: input index, place in the packets (packet · LANES + lane), f32
 /// distance (BVH units).
@@ -22,17 +22,36 @@ pub(super) struct Found {
     pub t: f32,
 }
 
+/// The per-triangle data that completing a hit reads: prefetched as soon as a triangle becomes
+/// the closest so far, so that its cache misses overlap the rest of the traversal (on a
+/// 1M-triangle scene they cost a quarter of an incoherent query when left to the end).
+#[derive(Clone, Copy)]
+pub(super) struct HitData<'a> {
+    pub exact: &'a [ExactTriangle],
+    pub input: &'a [SceneTriangle],
+}
+
+impl HitData<'_> {
+    #[inline(always)]
+    fn prefetch(&self, id: u32) {
+        prefetch(&self.exact[id as usize]);
+        prefetch(&self.input[id as usize]);
+    }
+}
+
 /// Closest hit.
 pub(super) struct Closest<'a> {
     ray: &'a Ray,
+    data: HitData<'a>,
     best: f32,
     found: Option<Found>,
 }
 
 impl<'a> Closest<'a> {
-    pub fn new(ray: &'a Ray) -> Closest<'a> {
+    pub fn new(ray: &'a Ray, data: HitData<'a>) -> Closest<'a> {
         Closest {
             ray,
+            data,
             best: ray.t_max,
             found: None,
         }
@@ -67,6 +86,7 @@ impl Visitor for Closest<'_> {
                 mask &= mask - 1;
                 let (t, id) = (ts[lane], p.ids[lane]);
                 if better(t, id, self.best, &self.found) {
+                    self.data.prefetch(id);
                     self.best = t;
                     self.found = Some(Found {
                         id,
@@ -90,7 +110,7 @@ pub(super) struct Leaving<'a> {
     near: f32,
     origin: &'a Point3<f64>,
     dir: &'a Vector3<f64>,
-    exact: &'a [ExactTriangle],
+    data: HitData<'a>,
     t_min_f64: f64,
     t_max_f64: f64,
     /// BVH units per metre.
@@ -107,7 +127,7 @@ impl<'a> Leaving<'a> {
         near: f32,
         origin: &'a Point3<f64>,
         dir: &'a Vector3<f64>,
-        exact: &'a [ExactTriangle],
+        data: HitData<'a>,
         t_range_f64: (f64, f64),
         scale: f64,
     ) -> Leaving<'a> {
@@ -117,7 +137,7 @@ impl<'a> Leaving<'a> {
             near,
             origin,
             dir,
-            exact,
+            data,
             t_min_f64: t_range_f64.0,
             t_max_f64: t_range_f64.1,
             scale,
@@ -156,7 +176,7 @@ impl Visitor for Leaving<'_> {
                 }
                 let mut t = ts[lane];
                 if t < self.near {
-                    match self.exact[id as usize].intersect(self.origin, self.dir) {
+                    match self.data.exact[id as usize].intersect(self.origin, self.dir) {
                         Some(t64) if t64 >= self.t_min_f64 && t64 <= self.t_max_f64 => {
                             t = (t64 * self.scale) as f32;
                         }
@@ -164,6 +184,7 @@ impl Visitor for Leaving<'_> {
                     }
                 }
                 if better(t, id, self.best, &self.found) {
+                    self.data.prefetch(id);
                     self.best = t;
                     self.found = Some(Found {
                         id,
@@ -190,6 +211,7 @@ impl<'a> Any<'a> {
 }
 
 impl Visitor for Any<'_> {
+    // Measured: sorting the hit children costs occlusion queries 14 % on the benchmark field.
     const ORDERED: bool = false;
 
     #[inline(always)]

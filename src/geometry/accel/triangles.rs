@@ -221,6 +221,27 @@ fn intersect_lane(p: &TrianglePacket, lane: usize, ray: &Ray, t_max: f32) -> Opt
     None
 }
 
+/// Asks the CPU to fetch `*r` into the cache (a hint; no effect on results).
+#[inline(always)]
+pub(super) fn prefetch<T>(r: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = r as *const T as *const i8;
+        let n = std::mem::size_of::<T>();
+        let mut off = 0;
+        while off < n {
+            // SAFETY: a prefetch never faults; the addresses are inside `*r`.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.add(off)) };
+            off += 64;
+        }
+        // SAFETY: as above (the last byte, whose line the loop may not have reached).
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.add(n - 1)) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = r;
+}
+
 /// The ray as obvhs's type (origin, direction and range; the reciprocal is unused here).
 pub(super) fn obvhs_ray(ray: &Ray) -> ObvhsRay {
     ObvhsRay {
