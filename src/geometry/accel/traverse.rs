@@ -287,7 +287,8 @@ unsafe fn run_loop<B: BoxTest, V: Visitor>(
             let node = bvh.nodes.get_unchecked(cur as usize);
             let mut mask = B::test(node, p, visitor.bound(), &mut t_near);
             if mask != 0 {
-                let first = mask.trailing_zeros() as usize;
+                // `& 7`: the mask has eight bits, and the index then needs no bounds check.
+                let first = mask.trailing_zeros() as usize & 7;
                 mask &= mask - 1;
                 if mask == 0 {
                     cur = node.children[first];
@@ -296,7 +297,7 @@ unsafe fn run_loop<B: BoxTest, V: Visitor>(
                 if !V::ORDERED {
                     cur = node.children[first];
                     while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
+                        let i = mask.trailing_zeros() as usize & 7;
                         mask &= mask - 1;
                         stack
                             .get_unchecked_mut(sp)
@@ -305,15 +306,39 @@ unsafe fn run_loop<B: BoxTest, V: Visitor>(
                     }
                     continue;
                 }
-                // Push every hit child, then sort the pushed run so that the nearest is on
-                // top (insertion sort: at most eight entries, usually two or three).
+                let second = mask.trailing_zeros() as usize & 7;
+                mask &= mask - 1;
+                if mask == 0 {
+                    // Two children (the commonest case after one): nearer one next, the other
+                    // pushed, without the sort's round trip through the stack.
+                    let (near, far) = if t_near[second] < t_near[first] {
+                        (second, first)
+                    } else {
+                        (first, second)
+                    };
+                    stack
+                        .get_unchecked_mut(sp)
+                        .write((node.children[far], t_near[far]));
+                    sp += 1;
+                    cur = node.children[near];
+                    continue;
+                }
+                // Three or more: push every hit child, then sort the pushed run so that the
+                // nearest is on top (insertion sort of at most eight entries).
                 let base = sp;
-                stack
-                    .get_unchecked_mut(sp)
-                    .write((node.children[first], t_near[first]));
-                sp += 1;
+                for i in [first, second] {
+                    let e = (node.children[i], t_near[i]);
+                    if sp > base && stack.get_unchecked(sp - 1).assume_init().1 < e.1 {
+                        let prev = stack.get_unchecked(sp - 1).assume_init();
+                        stack.get_unchecked_mut(sp - 1).write(e);
+                        stack.get_unchecked_mut(sp).write(prev);
+                    } else {
+                        stack.get_unchecked_mut(sp).write(e);
+                    }
+                    sp += 1;
+                }
                 while mask != 0 {
-                    let i = mask.trailing_zeros() as usize;
+                    let i = mask.trailing_zeros() as usize & 7;
                     mask &= mask - 1;
                     let e = (node.children[i], t_near[i]);
                     let mut j = sp;
