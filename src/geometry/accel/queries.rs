@@ -77,9 +77,9 @@ impl Visitor for Closest<'_> {
     }
 
     #[inline(always)]
-    fn leaf(&mut self, packets: &[TrianglePacket], first: usize, count: usize) -> bool {
-        for pi in first..first + count {
-            let p = &packets[pi];
+    fn leaf(&mut self, packets: &[TrianglePacket], first: usize) -> bool {
+        for (k, p) in packets.iter().enumerate() {
+            let pi = first + k;
             let (ts, mut mask) = p.intersect(self.ray, self.best);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -160,12 +160,12 @@ impl Visitor for Leaving<'_> {
     }
 
     #[inline(always)]
-    fn leaf(&mut self, packets: &[TrianglePacket], first: usize, count: usize) -> bool {
+    fn leaf(&mut self, packets: &[TrianglePacket], first: usize) -> bool {
         // Lanes beyond the best are rejected, unless they are near (their f64 distance may be
         // smaller): whatever the order the BVH meets them in, the same candidates are kept.
         let cap = self.best.max(self.near.min(self.ray.t_max));
-        for pi in first..first + count {
-            let p = &packets[pi];
+        for (k, p) in packets.iter().enumerate() {
+            let pi = first + k;
             let (ts, mut mask) = p.intersect(self.ray, cap);
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
@@ -220,8 +220,9 @@ impl Visitor for Any<'_> {
     }
 
     #[inline(always)]
-    fn leaf(&mut self, packets: &[TrianglePacket], first: usize, count: usize) -> bool {
-        for p in &packets[first..first + count] {
+    fn leaf(&mut self, packets: &[TrianglePacket], first: usize) -> bool {
+        let _ = first;
+        for p in packets {
             let (ts, mask) = p.intersect(self.ray, self.ray.t_max);
             let mut m = mask;
             while m != 0 {

@@ -83,8 +83,9 @@ pub(super) trait Visitor {
     const ORDERED: bool;
     /// Boxes entered beyond this distance (times [`FAR_SCALE`]) are skipped.
     fn bound(&self) -> f32;
-    /// Tests the packets `first..first + count`; `true` ends the traversal.
-    fn leaf(&mut self, packets: &[TrianglePacket], first: usize, count: usize) -> bool;
+    /// Tests a leaf's `packets`, the first of which is packet `first` of the BVH; `true` ends
+    /// the traversal.
+    fn leaf(&mut self, packets: &[TrianglePacket], first: usize) -> bool;
 }
 
 /// The ray's per-traversal constants.
@@ -212,7 +213,8 @@ impl BoxTest for Sse2Boxes {
         let mut mask = 0;
         for half in 0..2 {
             let off = 4 * half;
-            let ld = |plane: usize| _mm_load_ps(node.planes[plane].as_ptr().add(off));
+            // SAFETY (indices): `Prepared` holds plane indices below 6 only.
+            let ld = |plane: usize| _mm_load_ps(node.planes.get_unchecked(plane).as_ptr().add(off));
             let slab = |a: usize, plane: usize| {
                 _mm_mul_ps(
                     _mm_sub_ps(ld(plane), _mm_set1_ps(p.origin[a])),
@@ -245,7 +247,8 @@ impl BoxTest for Avx2Boxes {
     #[inline(always)]
     unsafe fn test(node: &Node, p: &Prepared, bound: f32, t_near: &mut [f32; WIDTH]) -> u32 {
         use std::arch::x86_64::*;
-        let ld = |plane: usize| _mm256_load_ps(node.planes[plane].as_ptr());
+        // SAFETY (indices): `Prepared` holds plane indices below 6 only.
+        let ld = |plane: usize| _mm256_load_ps(node.planes.get_unchecked(plane).as_ptr());
         let slab = |a: usize, plane: usize| {
             _mm256_mul_ps(
                 _mm256_sub_ps(ld(plane), _mm256_set1_ps(p.origin[a])),
@@ -356,7 +359,7 @@ unsafe fn run_loop<B: BoxTest, V: Visitor>(
             }
         } else {
             let (first, count) = leaf_range(cur);
-            if visitor.leaf(&bvh.packets, first, count) {
+            if visitor.leaf(&bvh.packets[first..first + count], first) {
                 return;
             }
         }
