@@ -28,8 +28,9 @@ pub(super) const WIDTH: usize = 8;
 /// Most triangles in one leaf: one packet (see the module documentation).
 const MAX_LEAF_TRIANGLES: u32 = LANES as u32;
 
-/// A child slot's reference: an inner node's index, a leaf (bit 31 set: first packet in bits
-/// 4–30, packet count in bits 0–3) or [`EMPTY`].
+/// A child slot's reference: an inner node's byte offset in the node array (its index times
+/// `size_of::<Node>()`, so the traversal needs no multiplication), a leaf (bit 31 set: first
+/// packet in bits 4–30, packet count in bits 0–3) or [`EMPTY`].
 pub(super) type ChildRef = u32;
 
 /// An unused child slot (its box is empty, so no ray enters it).
@@ -44,6 +45,13 @@ pub(super) fn leaf_ref(first_packet: u32, count: u32) -> ChildRef {
         "BVH leaf out of range ({count} packets from {first_packet})"
     );
     LEAF_BIT | (first_packet << 4) | count
+}
+
+/// The reference of inner node `index`.
+fn node_ref(index: usize) -> ChildRef {
+    let offset = index * std::mem::size_of::<Node>();
+    assert!(offset < LEAF_BIT as usize, "BVH too large ({index} nodes)");
+    offset as ChildRef
 }
 
 /// (first packet, packet count) of a leaf reference.
@@ -258,7 +266,7 @@ impl Collapser<'_> {
                 self.nodes.push(Node::empty());
                 let idx = self.nodes.len() - 1;
                 inner.push((idx, k));
-                idx as u32
+                node_ref(idx)
             };
             self.set_child(wide, slot, child, n.aabb.min.into(), n.aabb.max.into());
         }
