@@ -2,8 +2,9 @@
 //! BVH (the only module that names obvhs).
 //!
 //! - `build.rs`: obvhs's PLOC binary BVH (`medium_build`, leaves of at most four triangles)
-//!   collapsed into nodes of eight children with their boxes as structure of arrays; the
-//!   triangles copied in BVH order into packets of four.
+//!   collapsed into nodes of eight children by Ylitie et al.'s SAH dynamic programme (HPG
+//!   2017), their boxes as structure of arrays; the triangles copied in BVH order into packets
+//!   of four.
 //! - `traverse.rs`: single-ray traversal, eight boxes per AVX2 instruction (SSE2 or scalar
 //!   where AVX2 is missing, chosen at run time), near to far, a fixed stack, a conservative
 //!   f32 box test.
@@ -17,8 +18,10 @@
 //! Units: the BVH sees millimetres, not metres. f32 resolves ~0.06 µm over a metre in mm; the
 //! earlier obvhs CWBVH also clamped box entry distances to 10⁻⁴ units, which in metres culled
 //! every box a ray left within 0.1 mm of its origin (a ray from a table 10 µm under a glass pane
-//! missed the pane). This BVH culls nothing near the origin; the unit stays (hits are refined in
-//! f64 anyway, and `limits` bounds scene lengths for f32 in these units).
+//! missed the pane). This BVH culls nothing near the origin; the unit stays because the f32
+//! triangle test must round exactly as before to choose the same triangles (outputs stay byte
+//! for byte what they were), hits are refined in f64 anyway, and `limits` bounds scene lengths
+//! for f32 in these units.
 //!
 //! Rays that leave a surface start at the exact hit point and skip the triangle they leave
 //! (`closest_hit_leaving`), so no offset moves a ray's line.
