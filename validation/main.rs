@@ -2,6 +2,7 @@
 //! shipped scenes, and the command line's behaviour on good and bad input. Each check cites
 //! the source of its reference value; validation/README.md lists what each one proves.
 
+mod accel;
 mod bad_input;
 mod cli;
 mod common;
