@@ -500,7 +500,10 @@ mod tests {
         // A pattern of another grid or another PRNU is not used: the right one is made.
         let mut other = spec;
         other.prnu *= 2.0;
-        for wrong in [FixedPattern::new(&spec, 8, 8), FixedPattern::new(&other, 16, 8)] {
+        for wrong in [
+            FixedPattern::new(&spec, 8, 8),
+            FixedPattern::new(&other, 16, 8),
+        ] {
             assert!(!wrong.fits(&spec, 16, 8));
             assert_eq!(a, expose(&spec, &e, area, lambda, &s, &wrong));
         }

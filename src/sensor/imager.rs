@@ -111,7 +111,14 @@ impl ImagerSpec {
         sampler: &PoseSampler,
         pattern: &FixedPattern,
     ) -> Exposure {
-        emva::expose(self, irradiance, pixel_area_m2, wavelength_m, sampler, pattern)
+        emva::expose(
+            self,
+            irradiance,
+            pixel_area_m2,
+            wavelength_m,
+            sampler,
+            pattern,
+        )
     }
 }
 
