@@ -7,10 +7,18 @@
 //! Blocks are compressed in parallel; each one's bytes depend on its pixels alone and they are
 //! laid out in y order, so the file does not depend on the number of threads.
 
+use std::cell::RefCell;
+
 use rayon::prelude::*;
 
 use super::header::{self, Value};
 use super::zip_block::{self, Samples, Scratch, LINES_PER_BLOCK};
+
+thread_local! {
+    /// Each thread's buffers (about 1 MB for glassscan's images), kept from file to file: fresh
+    /// ones for every block cost page faults. What a block's bytes are does not depend on them.
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
+}
 
 /// The file of a `width` × `height` image of f32 `channels` (Latin-1 name, samples), already
 /// sorted by name, with the `extra` header attributes after the standard ones. The caller has
@@ -32,9 +40,9 @@ pub(super) fn encode(
     let samples: Vec<Samples> = channels.iter().map(|&(_, s)| s).collect();
     let blocks: Vec<Vec<u8>> = (0..block_count)
         .into_par_iter()
-        .map_init(Scratch::default, |scratch, b| {
+        .map(|b| {
             let rows = b * LINES_PER_BLOCK..((b + 1) * LINES_PER_BLOCK).min(height);
-            zip_block::encode(&samples, width, rows, scratch)
+            SCRATCH.with_borrow_mut(|scratch| zip_block::encode(&samples, width, rows, scratch))
         })
         .collect();
 

@@ -11,7 +11,8 @@
 //! glassscan writes its files itself, for exactly this one layout (single part, scan lines in
 //! increasing y, f32 channels, ZIP_COMPRESSION over blocks of 16 scanlines), and reads them with
 //! the `exr` crate: [`file`] lays out the file, [`header`] encodes the header, [`zip_block`] one
-//! block and [`zlib`] its zlib stream.
+//! block and [`zlib`] its zlib stream, a [`deflate_block`] with [`huffman`] codes. The zlib
+//! streams are glassscan's own too: no deflate library was fast on these images (see [`zlib`]).
 
 use std::fs::File;
 use std::io::BufReader;
@@ -29,8 +30,10 @@ use crate::transport::Irradiance;
 use header::Value;
 use zip_block::Samples;
 
+mod deflate_block;
 mod file;
 mod header;
+mod huffman;
 mod zip_block;
 mod zlib;
 
