@@ -82,14 +82,15 @@ pub(super) struct Frequencies {
     litlen: [u32; LITLEN_SYMBOLS],
     distance: [u32; DISTANCE_SYMBOLS],
     /// `length_symbol` of every length, looked up rather than searched per match.
-    length_symbols: [u16; MAX_MATCH + 1],
+    length_symbols: [(u16, u8, u8); MAX_MATCH + 1],
 }
 
 impl Default for Frequencies {
     fn default() -> Self {
-        let mut length_symbols = [0u16; MAX_MATCH + 1];
-        for (length, symbol) in length_symbols.iter_mut().enumerate().skip(MIN_MATCH) {
-            *symbol = length_symbol(length).0 as u16;
+        let mut length_symbols = [(0, 0, 0); MAX_MATCH + 1];
+        for (length, entry) in length_symbols.iter_mut().enumerate().skip(MIN_MATCH) {
+            let (symbol, extra_bits, extra) = length_symbol(length);
+            *entry = (symbol as u16, extra_bits as u8, extra as u8);
         }
         Frequencies {
             litlen: [0; LITLEN_SYMBOLS],
@@ -112,7 +113,7 @@ impl Frequencies {
 
     #[inline]
     pub(super) fn copy(&mut self, length: usize, distance: usize) {
-        self.litlen[usize::from(self.length_symbols[length])] += 1;
+        self.litlen[usize::from(self.length_symbols[length].0)] += 1;
         self.distance[distance_symbol(distance).0] += 1;
     }
 }
@@ -233,9 +234,9 @@ pub(super) fn write(tokens: &[Token], freqs: &Frequencies, out: Vec<u8>) -> Vec<
             continue;
         }
         let length = ((token >> 16) & 0x1ff) as usize;
-        let (symbol, extra_bits, extra) = length_symbol(length);
-        litlen.put(&mut w, symbol);
-        w.put(extra, extra_bits);
+        let (symbol, extra_bits, extra) = freqs.length_symbols[length];
+        litlen.put(&mut w, usize::from(symbol));
+        w.put(u32::from(extra), u32::from(extra_bits));
         let (symbol, extra_bits, extra) = distance_symbol((token & 0xffff) as usize + 1);
         distance.put(&mut w, symbol);
         w.put(extra, extra_bits);

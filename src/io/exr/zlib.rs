@@ -11,23 +11,28 @@
 //! compared, and the longer match wins, else a literal. The Adler-32 checksum of a run is
 //! computed in closed form, so runs are never summed byte by byte.
 //!
-//! Candidates measured (2026-07-08) on the predicted blocks of real irradiance images
-//! (`glassscan scan scenes/edge_study_bare.toml`, 640 × 832 × 12 f32 = 25.6 MB raw a pose;
-//! one thread; ms a pose and bytes a pose; mean of 6 poses at 1000 and 65 536 photons, and one
-//! pose at 2^20 photons):
+//! Candidates measured (2026-12-03, the project's 2-core machine, shared: best of 5, one
+//! thread) on the predicted blocks of real irradiance images (`glassscan scan
+//! scenes/edge_study_bare.toml`, 640 × 832 × 12 f32 = 25.6 MB raw a pose): ms and bytes a
+//! pose, mean of 6 poses at 1000 and 65 536 photons, and one pose at 2^20 photons. "Runs +
+//! hash" is this module's algorithm as first written (a prototype in the same harness; the
+//! module since scans runs 32 bytes a step and reduces Adler-32 once a megabyte).
 //!
 //! | zlib encoder | 1000 / 65 536 photons | 2^20 photons |
 //! |---|---|---|
-//! | miniz_oxide level 4 (the `exr` crate's) | 31–47 ms, 62.8 kB | 33–36 ms, 248 kB |
-//! | miniz_oxide level 1 | 8–12 ms, 161 kB | 10 ms, 357 kB |
-//! | zlib-rs (flate2) level 1 / 2 | 16–22 ms, 282 / 64 kB | 16–22 ms, 464 / 254 kB |
-//! | libdeflate level 3 | 26–36 ms, 65.6 kB | 27 ms, 255 kB |
-//! | fdeflate | 19–27 ms, no gain: every block stored raw | same |
-//! | this module | 2.5 ms, 64.4 kB | 4.7 ms, 254 kB |
+//! | miniz_oxide level 4 (the `exr` crate's) | 31–43 ms, 62.8 kB | 33–49 ms, 248 kB |
+//! | miniz_oxide level 1 | 8–11 ms, 161 kB | 10–15 ms, 357 kB |
+//! | zlib-rs (flate2) level 1 | 16–20 ms, 282 kB | 16–24 ms, 464 kB |
+//! | zlib-rs (flate2) level 2 | 16–22 ms, 64.3 kB | 22–26 ms, 254 kB |
+//! | libdeflate (libdeflater, C) level 3 | 26–37 ms, 65.6 kB | 27–39 ms, 255 kB |
+//! | fdeflate (the `png` crate's) | 19–25 ms, nothing gained: every block stored raw | same |
+//! | runs only (distance 1) | 2.0–2.6 ms, 89.0 kB | 3.4–3.5 ms, 400 kB |
+//! | runs + hash (this module) | 2.5–3.0 ms, 64.4 kB | 4.6–4.7 ms, 254 kB |
 //!
-//! fdeflate (the `png` crate's) only matches runs of zero bytes and codes literals with a
-//! table made for PNG: here the runs are of 128. Runs alone (no hash table) took 2.0 / 3.4 ms
-//! but 89 / 400 kB.
+//! fdeflate only matches runs of zero bytes and codes literals with a table made for PNG: here
+//! the runs are of 128. The hash table brings the size down to miniz_oxide's: byte strings other
+//! than runs repeat too (for one, the `irradiance` total repeats a class's row wherever that
+//! class carries all the light).
 
 use super::deflate_block::{self, Frequencies, Token, MAX_MATCH, MIN_MATCH, WINDOW};
 
@@ -35,6 +40,7 @@ use super::deflate_block::{self, Frequencies, Token, MAX_MATCH, MIN_MATCH, WINDO
 const HASH_BITS: u32 = 15;
 /// Bytes a hash covers, the shortest match looked up by hash (runs are taken from 3 bytes).
 const HASHED: usize = 4;
+
 /// Buffers reused from stream to stream by one worker.
 #[derive(Default)]
 pub(super) struct Scratch {
@@ -168,16 +174,19 @@ fn hash(bytes: &[u8]) -> usize {
 }
 
 /// The Adler-32 checksum (RFC 1950 §8.2): a = 1 + Σ bytes, b = Σ a after each byte, mod 65521.
+/// Kept in u64 and reduced every [`ADLER_REDUCE`] bytes: one division per megabyte, not per
+/// run.
 struct Adler32 {
-    a: u32,
-    b: u32,
+    a: u64,
+    b: u64,
     /// Bytes added since a and b were last reduced.
-    pending: u32,
+    pending: u64,
 }
 
-const ADLER_MOD: u32 = 65_521;
-/// The most bytes that can be added to reduced a and b before b may overflow.
-const ADLER_NMAX: u32 = 5552;
+const ADLER_MOD: u64 = 65_521;
+/// Bytes after which a and b are reduced: from reduced values, b stays below
+/// 65521·(1 + N) + 255·N(N + 1)/2 < 2^48 for N = 2^20 + 258 (a run may end past the mark).
+const ADLER_REDUCE: u64 = 1 << 20;
 
 impl Default for Adler32 {
     fn default() -> Self {
@@ -192,10 +201,10 @@ impl Default for Adler32 {
 impl Adler32 {
     #[inline]
     fn byte(&mut self, byte: u8) {
-        self.a += u32::from(byte);
+        self.a += u64::from(byte);
         self.b += self.a;
         self.pending += 1;
-        if self.pending == ADLER_NMAX {
+        if self.pending >= ADLER_REDUCE {
             self.reduce();
         }
     }
@@ -204,10 +213,13 @@ impl Adler32 {
     /// byte·length(length + 1)/2.
     #[inline]
     fn run(&mut self, byte: u8, length: usize) {
-        self.reduce();
-        let (v, l) = (u32::from(byte), length as u32);
-        self.b = (self.b + l * self.a + v * (l * (l + 1) / 2)) % ADLER_MOD;
-        self.a = (self.a + l * v) % ADLER_MOD;
+        let (v, l) = (u64::from(byte), length as u64);
+        self.b += l * self.a + v * (l * (l + 1) / 2);
+        self.a += l * v;
+        self.pending += l;
+        if self.pending >= ADLER_REDUCE {
+            self.reduce();
+        }
     }
 
     fn reduce(&mut self) {
@@ -218,7 +230,7 @@ impl Adler32 {
 
     fn finish(mut self) -> u32 {
         self.reduce();
-        (self.b << 16) | self.a
+        (self.b << 16 | self.a) as u32
     }
 }
 
@@ -343,5 +355,17 @@ mod tests {
             prefix.extend(std::iter::repeat_n(byte, length));
             assert_eq!(adler.finish(), adler32_by_definition(&prefix));
         }
+        // Past the reduction mark, by bytes of 255 and by runs of it.
+        let mut adler = Adler32::default();
+        let mut data = Vec::new();
+        while data.len() < 3 * ADLER_REDUCE as usize {
+            adler.run(255, 258);
+            data.extend([255; 258]);
+            for b in [255, 254, 0] {
+                adler.byte(b);
+                data.push(b);
+            }
+        }
+        assert_eq!(adler.finish(), adler32_by_definition(&data));
     }
 }
