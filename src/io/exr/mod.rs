@@ -7,16 +7,18 @@
 //!
 //! Channel order: the OpenEXR format stores channels sorted by name, so `read_exr_layers`
 //! returns the layers in that (byte-wise alphabetical) order, whatever order they were written in.
+//!
+//! glassscan writes its files itself, for exactly this one layout (single part, scan lines in
+//! increasing y, f32 channels, ZIP_COMPRESSION over blocks of 16 scanlines), and reads them with
+//! the `exr` crate: [`file`] lays out the file, [`header`] encodes the header, [`zip_block`] one
+//! block and [`zlib`] its zlib stream, a [`deflate_block`] with [`huffman`] codes. The zlib
+//! streams are glassscan's own too: no deflate library was fast on these images (see [`zlib`]).
 
 use std::fs::File;
-use std::io::{BufReader, Cursor};
+use std::io::BufReader;
 use std::path::Path;
 
-use exr::prelude::{
-    AnyChannel, AnyChannels, AttributeValue, Blocks, Compression, Encoding, FlatSamples,
-    ImageAttributes, IntegerBounds, Layer, LayerAttributes, LineOrder, ReadChannels, ReadLayers,
-    SmallVec, Text, WritableImage,
-};
+use exr::prelude::{FlatSamples, ReadChannels, ReadLayers};
 
 use super::atomic::write_atomic;
 use super::error::check_image_size;
@@ -25,51 +27,46 @@ use crate::geometry::pose::{pose_to_matrix_mm, Pose};
 use crate::sensor::image::Image;
 use crate::sensor::path_class::PathClass;
 use crate::transport::Irradiance;
+use header::Value;
+use zip_block::Samples;
 
-/// ZIP over blocks of 16 scanlines: lossless, and well supported by every EXR viewer. Scanlines
-/// in increasing y make the file bytes independent of how many threads compress them.
-const ENCODING: Encoding = Encoding {
-    compression: Compression::ZIP16,
-    blocks: Blocks::ScanLines,
-    line_order: LineOrder::Increasing,
-};
+mod deflate_block;
+mod file;
+mod header;
+mod huffman;
+mod zip_block;
+mod zlib;
+
+#[cfg(test)]
+mod round_trip_tests;
 
 /// Writes `layers` (name, row-major samples) as one f32 channel each into a `width` × `height`
 /// single-part scanline EXR at `path`, atomically.
 ///
-/// Every layer must hold exactly `width * height` samples; names must be distinct, non-empty
-/// and Latin-1 (the EXR text type).
+/// Every layer must hold exactly `width * height` samples; names must be distinct, non-empty,
+/// Latin-1 (the EXR text type), at most 255 characters long and without NUL.
 pub fn write_exr_layers(
     path: &Path,
     width: usize,
     height: usize,
     layers: &[(&str, &[f32])],
 ) -> Result<(), FileError> {
-    write_exr_layers_with(path, width, height, layers, ExrHeader::default())
+    let layers: Vec<(&str, Samples)> = layers
+        .iter()
+        .map(|&(name, samples)| (name, Samples::F32(samples)))
+        .collect();
+    write_layers(path, width, height, &layers, Vec::new())
 }
 
-/// Header attributes beyond the layers. The exr crate keeps custom attributes in hash maps
-/// and writes each map in its iteration order, which differs from process to process; so each
-/// map holds at most one custom attribute, and files stay byte-identical run to run.
-#[derive(Default)]
-struct ExrHeader {
-    /// The layer's attributes, with at most one entry in `other`.
-    layer: LayerAttributes,
-    /// One custom attribute of the image (written after the layer's).
-    image_custom: Option<(Text, AttributeValue)>,
-}
-
-fn write_exr_layers_with(
+/// [`write_exr_layers`] of f32 or f64 samples (rounded to f32), with the `extra` header
+/// attributes after the standard ones.
+fn write_layers(
     path: &Path,
     width: usize,
     height: usize,
-    layers: &[(&str, &[f32])],
-    header: ExrHeader,
+    layers: &[(&str, Samples)],
+    extra: Vec<(&'static str, Value)>,
 ) -> Result<(), FileError> {
-    assert!(
-        header.layer.other.len() <= 1,
-        "one custom layer attribute at most"
-    );
     let layout_error = |expected: &str, found: String| FileError::ExrLayout {
         path: path.to_path_buf(),
         expected: expected.to_string(),
@@ -78,47 +75,39 @@ fn write_exr_layers_with(
     if layers.is_empty() {
         return Err(layout_error("at least one layer", "none".to_string()));
     }
-    let mut channels = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
+    let mut channels = Vec::with_capacity(layers.len());
     for (i, &(name, samples)) in layers.iter().enumerate() {
-        check_image_size(
-            path,
-            || format!("layer \"{name}\""),
-            width,
-            height,
-            samples.len(),
-        )?;
+        let len = match samples {
+            Samples::F32(s) => s.len(),
+            Samples::F64(s) => s.len(),
+        };
+        check_image_size(path, || format!("layer \"{name}\""), width, height, len)?;
         if layers[..i].iter().any(|&(other, _)| other == name) {
             return Err(layout_error(
                 "distinct layer names",
                 format!("\"{name}\" twice"),
             ));
         }
-        let text = Text::new_or_none(name)
-            .filter(|_| !name.is_empty())
-            .ok_or_else(|| layout_error("a non-empty Latin-1 layer name", format!("\"{name}\"")))?;
-        channels.push(AnyChannel::new(text, FlatSamples::F32(samples.to_vec())));
+        let bytes = header::latin1(name)
+            .filter(|b| !b.is_empty() && b.len() <= header::NAME_MAX && !b.contains(&0))
+            .ok_or_else(|| {
+                layout_error(
+                    "a non-empty Latin-1 layer name of at most 255 characters, without NUL",
+                    format!("\"{name}\""),
+                )
+            })?;
+        channels.push((bytes, samples));
     }
-    let layer = Layer::new(
-        (width, height),
-        header.layer,
-        ENCODING,
-        AnyChannels::sort(channels),
-    );
-    let bounds = IntegerBounds::new(layer.attributes.layer_position, layer.size);
-    let mut image_attributes = ImageAttributes::new(bounds);
-    image_attributes.other.extend(header.image_custom);
-    // Encoding to memory first means an encoder error never leaves a temporary file behind,
-    // and the atomic writer does not need to offer `Seek`.
-    let mut encoded = Cursor::new(Vec::new());
-    exr::prelude::Image::new(image_attributes, layer)
-        .write()
-        .to_buffered(&mut encoded)
-        .map_err(|source| FileError::Exr {
-            path: path.to_path_buf(),
-            expected: "layers the OpenEXR encoder accepts",
-            source,
-        })?;
-    let encoded = encoded.into_inner();
+    if !file::fits(width, height, channels.len()) {
+        return Err(layout_error(
+            "an image whose sizes fit OpenEXR's 32-bit fields",
+            format!("{width} × {height} pixels of {} layers", channels.len()),
+        ));
+    }
+    // The format stores channels sorted by name, byte-wise.
+    channels.sort_by(|a, b| a.0.cmp(&b.0));
+    // Encoding to memory first means an encoder error never leaves a temporary file behind.
+    let encoded = file::encode(width, height, &channels, extra);
     write_atomic(path, |w| w.write_all(&encoded))
 }
 
@@ -134,33 +123,30 @@ pub struct IrradianceNotes {
 }
 
 impl IrradianceNotes {
-    /// The header attributes: the standard `expTime` (s), `comments` (which says the unit,
-    /// W/m²) and `software`, and the custom `sensorToBaseMm` (4 × 4, row-major, mm; f32 as EXR
+    /// The header attributes: the standard `comments` (which says the unit, W/m²), `expTime`
+    /// (s) and `software`, and the custom `sensorToBaseMm` (4 × 4, row-major, mm; f32 as EXR
     /// matrices are: the dataset's ground truth holds it in f64) and `wavelengthNm` (f64).
-    fn header(&self) -> ExrHeader {
-        let mut a = LayerAttributes {
-            exposure: Some(self.exposure_s as f32),
-            comments: Some(Text::from(
-                "glassscan irradiance at the pixels (W/m^2): 'irradiance' is the total, \
-                 'class.<path class>' its part by light path",
-            )),
-            software_name: Some(Text::from(
-                format!("glassscan {}", env!("CARGO_PKG_VERSION")).as_str(),
-            )),
-            ..LayerAttributes::default()
-        };
-        let matrix = pose_to_matrix_mm(&self.sensor_to_base).map(|v| v as f32);
-        a.other.insert(
-            Text::from("sensorToBaseMm"),
-            AttributeValue::Matrix4x4(matrix),
-        );
-        ExrHeader {
-            layer: a,
-            image_custom: Some((
-                Text::from("wavelengthNm"),
-                AttributeValue::F64(self.wavelength_m * 1e9),
-            )),
-        }
+    fn header(&self) -> Vec<(&'static str, Value)> {
+        let text = |t: &str| Value::String(header::latin1(t).expect("ASCII"));
+        vec![
+            (
+                "comments",
+                text(
+                    "glassscan irradiance at the pixels (W/m^2): 'irradiance' is the total, \
+                     'class.<path class>' its part by light path",
+                ),
+            ),
+            ("expTime", Value::Float(self.exposure_s as f32)),
+            (
+                "software",
+                text(&format!("glassscan {}", env!("CARGO_PKG_VERSION"))),
+            ),
+            (
+                "sensorToBaseMm",
+                Value::M44f(pose_to_matrix_mm(&self.sensor_to_base).map(|v| v as f32)),
+            ),
+            ("wavelengthNm", Value::Double(self.wavelength_m * 1e9)),
+        ]
     }
 }
 
@@ -171,20 +157,18 @@ pub fn write_irradiance_exr(
     irradiance: &Irradiance,
     notes: &IrradianceNotes,
 ) -> Result<(), FileError> {
-    let to_f32 = |img: &Image<f64>| -> Vec<f32> { img.data.iter().map(|&v| v as f32).collect() };
-    let total = to_f32(&irradiance.total);
-    let classes: Vec<(String, Vec<f32>)> = PathClass::ALL
+    let names: Vec<String> = PathClass::ALL
         .iter()
-        .map(|c| {
-            (
-                format!("class.{}", c.name()),
-                to_f32(&irradiance.by_class[c.index()]),
-            )
-        })
+        .map(|c| format!("class.{}", c.name()))
         .collect();
-    let mut layers: Vec<(&str, &[f32])> = vec![("irradiance", &total)];
-    layers.extend(classes.iter().map(|(n, d)| (n.as_str(), d.as_slice())));
-    write_exr_layers_with(
+    let mut layers = vec![("irradiance", Samples::F64(&irradiance.total.data))];
+    layers.extend(PathClass::ALL.iter().zip(&names).map(|(c, n)| {
+        (
+            n.as_str(),
+            Samples::F64(&irradiance.by_class[c.index()].data),
+        )
+    }));
+    write_layers(
         path,
         irradiance.total.width,
         irradiance.total.height,
@@ -265,7 +249,10 @@ pub fn read_exr_layers(path: &Path) -> Result<Vec<(String, Image<f32>)>, FileErr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use exr::prelude::ReadSpecificChannel;
+    use exr::prelude::{
+        AnyChannel, AnyChannels, AttributeValue, Blocks, Compression, Encoding, Layer,
+        LayerAttributes, LineOrder, ReadSpecificChannel, SmallVec, Text, WritableImage,
+    };
 
     const WIDTH: usize = 5;
     const HEIGHT: usize = 3;
@@ -402,11 +389,31 @@ mod tests {
         let path = dir.path().join("irradiance.exr");
         let (a, b) = layers();
         let none: &[(&str, &[f32])] = &[];
-        for list in [none, &[("x", &a), ("x", &b)], &[("", &a)], &[("λ", &a)]] {
+        let too_long = "n".repeat(256);
+        for list in [
+            none,
+            &[("x", &a), ("x", &b)],
+            &[("", &a)],
+            &[("λ", &a)],
+            &[("a\0b", &a)],
+            &[(too_long.as_str(), &a)],
+        ] {
             let err = write_exr_layers(&path, WIDTH, HEIGHT, list).unwrap_err();
             assert!(matches!(err, FileError::ExrLayout { .. }), "{err}");
         }
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn names_of_255_characters_are_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("irradiance.exr");
+        let (a, _) = layers();
+        let name = "é".repeat(255);
+        write_exr_layers(&path, WIDTH, HEIGHT, &[(name.as_str(), &a)]).unwrap();
+        let read = read_exr_layers(&path).unwrap();
+        assert_eq!(read[0].0, name);
+        assert_eq!(bits(&read[0].1.data), bits(&a));
     }
 
     #[test]
@@ -418,7 +425,11 @@ mod tests {
         let layer = Layer::new(
             (WIDTH, HEIGHT),
             LayerAttributes::default(),
-            ENCODING,
+            Encoding {
+                compression: Compression::ZIP16,
+                blocks: Blocks::ScanLines,
+                line_order: LineOrder::Increasing,
+            },
             AnyChannels::sort(SmallVec::from_vec(vec![channel])),
         );
         exr::prelude::Image::from_layer(layer)
