@@ -64,6 +64,8 @@ pub struct GltfMesh {
     /// The distinct materials of the triangle primitives, in the order first met
     /// (`the default material` for a primitive that names none).
     pub materials: Vec<FileMaterial>,
+    /// For every triangle of `mesh`, the index of its material in `materials`.
+    pub triangle_materials: Vec<usize>,
 }
 
 /// [`load_gltf_mesh`], with the materials its triangles use.
@@ -126,6 +128,7 @@ pub fn load_gltf_from_slice(
 
     let mut out = Mesh::default();
     let mut materials: Vec<(Option<usize>, FileMaterial)> = Vec::new();
+    let mut triangle_materials: Vec<usize> = Vec::new();
     let mut all_have_normals = true;
     let root = Matrix4::new_scaling(scale);
     // Depth-first over the node tree with the accumulated transform; glTF forbids cycles
@@ -143,12 +146,17 @@ pub fn load_gltf_from_slice(
         let local = Matrix4::from_fn(|r, c| f64::from(m[c][r]));
         let world = parent * local;
         if let Some(mesh) = node.mesh() {
-            let part = mesh_part(&mesh, &buffers, &world)?;
-            for prim in mesh.primitives() {
+            let (part, counts) = mesh_part(&mesh, &buffers, &world)?;
+            for (prim, count) in mesh.primitives().zip(counts) {
                 let m = prim.material();
-                if !materials.iter().any(|(i, _)| *i == m.index()) {
-                    materials.push((m.index(), FileMaterial::read(&m, scale)));
-                }
+                let k = match materials.iter().position(|(i, _)| *i == m.index()) {
+                    Some(k) => k,
+                    None => {
+                        materials.push((m.index(), FileMaterial::read(&m, scale)));
+                        materials.len() - 1
+                    }
+                };
+                triangle_materials.extend(std::iter::repeat_n(k, count));
             }
             all_have_normals &= part.normals.is_some();
             out.append(&part);
@@ -166,6 +174,7 @@ pub fn load_gltf_from_slice(
     Ok(GltfMesh {
         mesh: out,
         materials: materials.into_iter().map(|(_, m)| m).collect(),
+        triangle_materials,
     })
 }
 
@@ -430,12 +439,12 @@ fn describe(error: &gltf::Error, bytes: &[u8]) -> String {
     }
 }
 
-/// The triangles of one glTF mesh, transformed by `world`.
+/// The triangles of one glTF mesh, transformed by `world`, and how many each primitive gave.
 fn mesh_part(
     mesh: &gltf::Mesh,
     buffers: &[gltf::buffer::Data],
     world: &Matrix4<f64>,
-) -> Result<Mesh, GltfMeshError> {
+) -> Result<(Mesh, Vec<usize>), GltfMeshError> {
     let linear: Matrix3<f64> = world.fixed_view::<3, 3>(0, 0).into_owned();
     let mirrored = linear.determinant() < 0.0;
     let normal_matrix = linear.try_inverse().map(|m| m.transpose());
@@ -443,6 +452,7 @@ fn mesh_part(
     // identifies the mesh in the file's `meshes` array.
     let name = mesh.index();
     let mut out = Mesh::default();
+    let mut counts = Vec::new();
     let mut all_have_normals = true;
     for prim in mesh.primitives() {
         let mode = prim.mode();
@@ -500,6 +510,7 @@ fn mesh_part(
         };
         all_have_normals &= normals.is_some();
         let parts = vec![SurfacePart::Solid; triangles.len()];
+        counts.push(triangles.len());
         out.append(&Mesh {
             positions,
             normals,
@@ -510,7 +521,7 @@ fn mesh_part(
     if !all_have_normals {
         out.normals = None;
     }
-    Ok(out)
+    Ok((out, counts))
 }
 
 /// Triangles from an index list in a triangle mode (glTF 2.0 §3.7.2.1, primitive topologies).
