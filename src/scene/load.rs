@@ -676,7 +676,7 @@ mod tests {
     #[test]
     fn shipped_scenes_load_with_their_objects_and_materials() {
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-        let cases: [(&str, usize, usize, usize, usize, f64); 7] = [
+        let cases: [(&str, usize, usize, usize, usize, f64); 8] = [
             ("flat_opaque.toml", 2, 2, 0, 4, 45.0),
             ("flat_panel.toml", 6, 3, 1, 4, 88.0),
             ("edge_study.toml", 2, 2, 1, 4, 40.0),
@@ -684,6 +684,7 @@ mod tests {
             ("edge_study_tape.toml", 3, 3, 1, 4, 40.0),
             ("edge_study_cover.toml", 3, 3, 1, 4, 40.0),
             ("car_side_window.toml", 6, 2, 1, 12, 45.0),
+            ("car_side_window_gltf.toml", 6, 2, 1, 12, 45.0),
         ];
         for (name, objects, materials, glass, poses, angle) in cases {
             let (o, m, g, p, a) = summary(name);
