@@ -35,8 +35,9 @@ pub struct FileMaterial {
     pub base_red: f64,
     /// `metallicFactor`.
     pub metallic: f64,
-    /// `roughnessFactor` (glTF's default 1 when absent, §5.22.2); the microfacet α is its
-    /// square (glTF 2.0 Appendix B.3.3).
+    /// `roughnessFactor` (1 when absent, the default of glTF 2.0's
+    /// `material.pbrMetallicRoughness` schema); the microfacet α is its square (glTF 2.0,
+    /// Appendix B: α = roughness²).
     pub roughness: f64,
 }
 
