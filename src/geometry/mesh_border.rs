@@ -13,7 +13,8 @@
 //!    or inconsistently wound.
 //! 2. The triangles are grouped into smooth patches. By [`EdgeRule::Dihedral`], two neighbours
 //!    are in one patch when their normals differ by less than the threshold. By
-//!    [`EdgeRule::Marked`] (triangles of a glTF material named like "edge"), the unmarked
+//!    [`EdgeRule::Marked`] (triangles of a glTF material named like "edge" or marked so in its
+//!    `extras`), the unmarked
 //!    triangles are grouped by adjacency alone and the marked ones are the edge finish.
 //! 3. The top face is the patch of largest area among those whose area-weighted normal points
 //!    up (+z of the model frame); the bottom face the largest one pointing down; every other

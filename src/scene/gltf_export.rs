@@ -19,6 +19,7 @@
 use nalgebra::Vector3;
 use serde_json::{json, Value};
 
+use super::gltf_mesh::PART_EXTRAS_KEY;
 use super::world::{GlassSpec, Material, World};
 use crate::geometry::mesh::{Mesh, SurfacePart};
 
@@ -33,6 +34,9 @@ pub struct ExportMaterial {
     pub metallic: f64,
     /// `roughnessFactor`: the microfacet α is its square (glTF 2.0, Appendix B).
     pub roughness: f64,
+    /// `extras.glassscan_part` (`gltf_mesh::PART_EXTRAS_KEY`): `"edge"` marks the edge finish
+    /// whatever the name; `None` writes no extras.
+    pub part: Option<String>,
     /// Transmission, index and volume; `None` for an opaque material.
     pub glass: Option<ExportGlass>,
 }
@@ -54,7 +58,8 @@ pub struct ExportGlass {
 }
 
 /// The two materials of a glass pane of thickness `thickness_m` with the glass `spec` at the
-/// laser wavelength `wavelength_m`: `glass` for the faces and `edge` for the ground edge.
+/// laser wavelength `wavelength_m`: `glass` for the faces and `edge` for the ground edge, each
+/// also saying so in `extras.glassscan_part` (`"face"`, `"edge"`).
 /// Both transmit fully with the index n(λ) and the volume: attenuation distance = the
 /// thickness, colour exp(−α·t) in all three channels (glassscan knows the absorption at its one
 /// wavelength only; the reader takes the red channel). The faces are smooth (roughness 0), the
@@ -74,16 +79,17 @@ pub fn pane_materials(
         thickness_m,
         attenuation,
     };
-    let material = |name: &str, roughness: f64| ExportMaterial {
+    let material = |name: &str, roughness: f64, part: &str| ExportMaterial {
         name: name.to_owned(),
         base_color: [1.0; 4],
         metallic: 0.0,
         roughness,
+        part: Some(part.to_owned()),
         glass: Some(glass.clone()),
     };
     [
-        material("glass", 0.0),
-        material("edge", spec.edge_roughness.sqrt()),
+        material("glass", 0.0, "face"),
+        material("edge", spec.edge_roughness.sqrt(), "edge"),
     ]
 }
 
@@ -285,6 +291,9 @@ fn material_json(m: &ExportMaterial) -> Value {
             "roughnessFactor": m.roughness
         }
     });
+    if let Some(part) = &m.part {
+        value["extras"] = json!({ PART_EXTRAS_KEY: part });
+    }
     if let Some(g) = &m.glass {
         let mut volume = json!({ "thicknessFactor": g.thickness_m });
         if let Some((distance, colour)) = g.attenuation {
@@ -358,6 +367,8 @@ mod tests {
         assert!((glass.absorption_per_m().unwrap() - 40.0).abs() < 1e-4);
         assert!((edge.roughness * edge.roughness - 0.3).abs() < 1e-6);
         assert_eq!(glass.roughness, 0.0);
+        assert_eq!(edge.part.as_deref(), Some("edge"));
+        assert_eq!(glass.part.as_deref(), Some("face"));
         // Triangles keep their material: the walls are material 1.
         let walls = mesh
             .parts

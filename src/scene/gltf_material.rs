@@ -24,6 +24,9 @@ pub struct FileMaterial {
     pub label: String,
     /// Its `name`, if it has one.
     pub name: Option<String>,
+    /// Its `extras.glassscan_part` (`gltf_mesh::PART_EXTRAS_KEY`), if any: `"edge"` marks a
+    /// target's edge finish.
+    pub part: Option<String>,
     /// `KHR_materials_transmission.transmissionFactor` (0 when absent).
     pub transmission: f64,
     /// `KHR_materials_ior.ior`, if the file gives it.
@@ -72,6 +75,7 @@ impl FileMaterial {
         FileMaterial {
             label,
             name: material.name().map(str::to_owned),
+            part: None, // from the raw JSON, `gltf_mesh`
             transmission: material
                 .transmission()
                 .map_or(0.0, |t| f64::from(t.transmission_factor())),
@@ -107,6 +111,7 @@ mod tests {
         FileMaterial {
             label: "m".into(),
             name: None,
+            part: None,
             roughness: 1.0,
             transmission: 1.0,
             ior: None,

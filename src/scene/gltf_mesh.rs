@@ -129,6 +129,7 @@ pub fn load_gltf_from_slice(
     let mut out = Mesh::default();
     let mut materials: Vec<(Option<usize>, FileMaterial)> = Vec::new();
     let mut triangle_materials: Vec<usize> = Vec::new();
+    let parts = material_parts(bytes);
     let mut all_have_normals = true;
     let root = Matrix4::new_scaling(scale);
     // Depth-first over the node tree with the accumulated transform; glTF forbids cycles
@@ -152,7 +153,9 @@ pub fn load_gltf_from_slice(
                 let k = match materials.iter().position(|(i, _)| *i == m.index()) {
                     Some(k) => k,
                     None => {
-                        materials.push((m.index(), FileMaterial::read(&m, scale)));
+                        let mut fm = FileMaterial::read(&m, scale);
+                        fm.part = m.index().and_then(|i| parts.get(i).cloned().flatten());
+                        materials.push((m.index(), fm));
                         materials.len() - 1
                     }
                 };
@@ -187,6 +190,33 @@ fn json_root(bytes: &[u8]) -> Option<gltf::json::Root> {
         bytes.into()
     };
     gltf::json::Root::from_slice(&json).ok()
+}
+
+/// Key of a material's `extras` (glTF 2.0's application-specific data on any object) that
+/// names the part of a glass object it covers: `"edge"` marks a target's edge finish
+/// (`scene::load`, `[target]`). Blender writes a material's custom properties there.
+pub const PART_EXTRAS_KEY: &str = "glassscan_part";
+
+/// Per material of the file, its `extras.glassscan_part` string, if any (read from the raw
+/// JSON: the glTF reader keeps `extras` only with a feature glassscan does not build).
+fn material_parts(bytes: &[u8]) -> Vec<Option<String>> {
+    let json: Option<std::borrow::Cow<[u8]>> = if bytes.starts_with(b"glTF") {
+        gltf::Glb::from_slice(bytes).ok().map(|g| g.json)
+    } else {
+        Some(bytes.into())
+    };
+    let Some(root) = json.and_then(|j| serde_json::from_slice::<serde_json::Value>(&j).ok()) else {
+        return Vec::new();
+    };
+    let Some(materials) = root.get("materials").and_then(|m| m.as_array()) else {
+        return Vec::new();
+    };
+    (materials.iter())
+        .map(|m| {
+            let part = m.get("extras").and_then(|e| e.get(PART_EXTRAS_KEY));
+            part.and_then(|p| p.as_str()).map(str::to_owned)
+        })
+        .collect()
 }
 
 /// Refuses a file that requires an extension glassscan does not read

@@ -27,8 +27,9 @@ pub(super) struct GltfParts {
 /// Finds the border of the target mesh object `name` (`geometry::mesh_border`) by the rule
 /// `target.border` states, tags its triangles (top face, bottom face, edge finish) and keeps
 /// the border and the edge material in `parts`. Without `target.border`, a glTF material whose
-/// name contains "edge" (any case) marks the edge finish, as a CAD or Blender user names it;
-/// without one, creases of [`DEFAULT_EDGE_DIHEDRAL_DEG`] or more do.
+/// `extras.glassscan_part` is `"edge"`, or without such extras whose name contains "edge" (any
+/// case), marks the edge finish, as a CAD or Blender user names it; without one, creases of
+/// [`DEFAULT_EDGE_DIHEDRAL_DEG`] or more do.
 pub(super) fn mesh_target(
     mesh: &mut Mesh,
     parts: &mut GltfParts,
@@ -87,8 +88,10 @@ pub(super) fn mesh_target(
         }
         (None, None) => {
             let edge: Vec<usize> = (parts.materials.iter().enumerate())
-                .filter(|(_, m)| {
-                    (m.name.as_deref()).is_some_and(|n| n.to_lowercase().contains("edge"))
+                .filter(|(_, m)| match &m.part {
+                    // `extras` say what the material is; otherwise its name does.
+                    Some(part) => part == "edge",
+                    None => (m.name.as_deref()).is_some_and(|n| n.to_lowercase().contains("edge")),
                 })
                 .map(|(k, _)| k)
                 .collect();
@@ -261,6 +264,36 @@ mod tests {
             .contains("edge finish material 1 \"edge\""));
         let roughness = source.values.iter().find(|v| v.key == "edge_roughness");
         assert_eq!(roughness.map(|v| v.source), Some("file"));
+    }
+
+    #[test]
+    fn extras_mark_the_edge_material_whatever_its_name() {
+        let p = pane();
+        let [glass, edge] = pane_materials(&glass(), 658e-9, 0.004);
+        // `rim` is the edge by its extras; `edge_glass` is not, by its extras, though named so.
+        let rim = ExportMaterial {
+            name: "rim".into(),
+            ..edge
+        };
+        let faces = ExportMaterial {
+            name: "edge_glass".into(),
+            part: Some("face".into()),
+            ..glass
+        };
+        let (_dir, file) = write(&p.mesh, &pane_material_of_triangles(&p.mesh), &[faces, rim]);
+        let world = load_text(&scene(&file, "face_imperfection = 0.002", "")).unwrap();
+        let target = world.target.as_ref().expect("target");
+        assert_eq!(target.border.vertices.len(), p.border.vertices.len());
+        let object = &world.objects[target.object];
+        assert_eq!(object.mesh.parts, {
+            // The file lists the face triangles first, then the edge's.
+            let mut parts: Vec<SurfacePart> = p.mesh.parts.clone();
+            parts.sort_by_key(|&x| x == SurfacePart::Edge);
+            parts
+        });
+        assert!(world.material_sources[0]
+            .gltf_material
+            .contains("edge finish material 1 \"rim\""));
     }
 
     /// The message of a scene whose target is `mesh` (one material), and the place it must
