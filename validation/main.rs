@@ -8,6 +8,7 @@ mod cli;
 mod common;
 mod convergence;
 mod dataset;
+mod gltf_target;
 mod physics;
 mod scenes;
 mod stats;

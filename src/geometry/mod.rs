@@ -10,5 +10,6 @@ pub mod border;
 pub mod closest;
 pub mod cuboid;
 pub mod mesh;
+pub mod mesh_border;
 pub mod panel;
 pub mod pose;

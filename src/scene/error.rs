@@ -186,11 +186,11 @@ pub enum SceneError {
         /// The object names of the scene.
         known: Vec<String>,
     },
-    /// `target.object` names an object that is not a procedural panel, so it has no border
-    /// curve to scan.
+    /// `target.object` names an object that is neither a procedural panel nor a mesh, so it
+    /// has no border curve to scan.
     #[error(
-        "{}:{line}:{column}: {field}: object `{}` is a {kind} object, expected a panel \
-         object (only a panel has a border curve to scan)",
+        "{}:{line}:{column}: {field}: object `{}` is a {kind} object, expected a panel or \
+         mesh object (only those have a border curve to scan)",
         path.display(),
         clipped(name)
     )]
@@ -853,7 +853,7 @@ poses = 4
     #[test]
     fn target_must_name_a_panel_object() {
         let m = error_for("object = \"plate\"", "object = \"table\"");
-        assert_message(&m, "bad.toml:26:10: target.object: object `table` is a box object, expected a panel object");
+        assert_message(&m, "bad.toml:26:10: target.object: object `table` is a box object, expected a panel or mesh object");
         let m = error_for("object = \"plate\"", "object = \"plat\"");
         assert_message(&m, "bad.toml:26:10: target.object: unknown object `plat`, expected one of `plate`, `table`");
     }

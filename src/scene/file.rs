@@ -269,6 +269,20 @@ pub(crate) struct TargetDef {
     pub object: Spanned<String>,
     /// T_BM0 in the base frame; absent: the true pose.
     pub nominal_pose: Option<Spanned<PoseDef>>,
+    /// How a mesh target's border is found; absent: by an edge material if the file has one
+    /// named like "edge", else by the default dihedral threshold.
+    pub border: Option<Spanned<BorderDef>>,
+}
+
+/// `target.border`: how the edge finish of a mesh target is told from its faces
+/// (`geometry::mesh_border`). At most one key.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct BorderDef {
+    /// Creases of at least this angle (deg) separate the faces from the edge finish.
+    pub dihedral_deg: Option<Num>,
+    /// The glTF material (by name) of the edge finish's triangles.
+    pub edge_material: Option<Spanned<String>>,
 }
 
 /// `[sensor]`: a preset and overrides.

@@ -267,7 +267,7 @@ preset = "scancontrol-2600-100"
             .unwrap_err()
             .to_string();
         assert!(
-            m.contains("object `strip` is a tape object, expected a panel object"),
+            m.contains("object `strip` is a tape object, expected a panel or mesh object"),
             "{m}"
         );
     }

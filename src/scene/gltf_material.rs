@@ -22,6 +22,11 @@
 pub struct FileMaterial {
     /// How messages name it: `material 2 "Glass"`, or `the default material`.
     pub label: String,
+    /// Its `name`, if it has one.
+    pub name: Option<String>,
+    /// Its `extras.glassscan_part` (`gltf_mesh::PART_EXTRAS_KEY`), if any: `"edge"` marks a
+    /// target's edge finish.
+    pub part: Option<String>,
     /// `KHR_materials_transmission.transmissionFactor` (0 when absent).
     pub transmission: f64,
     /// `KHR_materials_ior.ior`, if the file gives it.
@@ -33,6 +38,10 @@ pub struct FileMaterial {
     pub base_red: f64,
     /// `metallicFactor`.
     pub metallic: f64,
+    /// `roughnessFactor` (1 when absent, the default of glTF 2.0's
+    /// `material.pbrMetallicRoughness` schema); the microfacet α is its square (glTF 2.0,
+    /// Appendix B: α = roughness²).
+    pub roughness: f64,
 }
 
 /// `KHR_materials_ior`'s default index (and core glTF's assumption for dielectrics).
@@ -65,6 +74,8 @@ impl FileMaterial {
         });
         FileMaterial {
             label,
+            name: material.name().map(str::to_owned),
+            part: None, // from the raw JSON, `gltf_mesh`
             transmission: material
                 .transmission()
                 .map_or(0.0, |t| f64::from(t.transmission_factor())),
@@ -72,6 +83,7 @@ impl FileMaterial {
             attenuation,
             base_red: f64::from(pbr.base_color_factor()[0]),
             metallic: f64::from(pbr.metallic_factor()),
+            roughness: f64::from(pbr.roughness_factor()),
         }
     }
 
@@ -98,6 +110,9 @@ mod tests {
     fn glass(attenuation: Option<(f64, f64)>) -> FileMaterial {
         FileMaterial {
             label: "m".into(),
+            name: None,
+            part: None,
+            roughness: 1.0,
             transmission: 1.0,
             ior: None,
             attenuation,

@@ -64,6 +64,8 @@ pub struct GltfMesh {
     /// The distinct materials of the triangle primitives, in the order first met
     /// (`the default material` for a primitive that names none).
     pub materials: Vec<FileMaterial>,
+    /// For every triangle of `mesh`, the index of its material in `materials`.
+    pub triangle_materials: Vec<usize>,
 }
 
 /// [`load_gltf_mesh`], with the materials its triangles use.
@@ -126,6 +128,8 @@ pub fn load_gltf_from_slice(
 
     let mut out = Mesh::default();
     let mut materials: Vec<(Option<usize>, FileMaterial)> = Vec::new();
+    let mut triangle_materials: Vec<usize> = Vec::new();
+    let parts = material_parts(bytes);
     let mut all_have_normals = true;
     let root = Matrix4::new_scaling(scale);
     // Depth-first over the node tree with the accumulated transform; glTF forbids cycles
@@ -143,12 +147,19 @@ pub fn load_gltf_from_slice(
         let local = Matrix4::from_fn(|r, c| f64::from(m[c][r]));
         let world = parent * local;
         if let Some(mesh) = node.mesh() {
-            let part = mesh_part(&mesh, &buffers, &world)?;
-            for prim in mesh.primitives() {
+            let (part, counts) = mesh_part(&mesh, &buffers, &world)?;
+            for (prim, count) in mesh.primitives().zip(counts) {
                 let m = prim.material();
-                if !materials.iter().any(|(i, _)| *i == m.index()) {
-                    materials.push((m.index(), FileMaterial::read(&m, scale)));
-                }
+                let k = match materials.iter().position(|(i, _)| *i == m.index()) {
+                    Some(k) => k,
+                    None => {
+                        let mut fm = FileMaterial::read(&m, scale);
+                        fm.part = m.index().and_then(|i| parts.get(i).cloned().flatten());
+                        materials.push((m.index(), fm));
+                        materials.len() - 1
+                    }
+                };
+                triangle_materials.extend(std::iter::repeat_n(k, count));
             }
             all_have_normals &= part.normals.is_some();
             out.append(&part);
@@ -166,6 +177,7 @@ pub fn load_gltf_from_slice(
     Ok(GltfMesh {
         mesh: out,
         materials: materials.into_iter().map(|(_, m)| m).collect(),
+        triangle_materials,
     })
 }
 
@@ -178,6 +190,33 @@ fn json_root(bytes: &[u8]) -> Option<gltf::json::Root> {
         bytes.into()
     };
     gltf::json::Root::from_slice(&json).ok()
+}
+
+/// Key of a material's `extras` (glTF 2.0's application-specific data on any object) that
+/// names the part of a glass object it covers: `"edge"` marks a target's edge finish
+/// (`scene::load`, `[target]`). Blender writes a material's custom properties there.
+pub const PART_EXTRAS_KEY: &str = "glassscan_part";
+
+/// Per material of the file, its `extras.glassscan_part` string, if any (read from the raw
+/// JSON: the glTF reader keeps `extras` only with a feature glassscan does not build).
+fn material_parts(bytes: &[u8]) -> Vec<Option<String>> {
+    let json: Option<std::borrow::Cow<[u8]>> = if bytes.starts_with(b"glTF") {
+        gltf::Glb::from_slice(bytes).ok().map(|g| g.json)
+    } else {
+        Some(bytes.into())
+    };
+    let Some(root) = json.and_then(|j| serde_json::from_slice::<serde_json::Value>(&j).ok()) else {
+        return Vec::new();
+    };
+    let Some(materials) = root.get("materials").and_then(|m| m.as_array()) else {
+        return Vec::new();
+    };
+    (materials.iter())
+        .map(|m| {
+            let part = m.get("extras").and_then(|e| e.get(PART_EXTRAS_KEY));
+            part.and_then(|p| p.as_str()).map(str::to_owned)
+        })
+        .collect()
 }
 
 /// Refuses a file that requires an extension glassscan does not read
@@ -430,12 +469,12 @@ fn describe(error: &gltf::Error, bytes: &[u8]) -> String {
     }
 }
 
-/// The triangles of one glTF mesh, transformed by `world`.
+/// The triangles of one glTF mesh, transformed by `world`, and how many each primitive gave.
 fn mesh_part(
     mesh: &gltf::Mesh,
     buffers: &[gltf::buffer::Data],
     world: &Matrix4<f64>,
-) -> Result<Mesh, GltfMeshError> {
+) -> Result<(Mesh, Vec<usize>), GltfMeshError> {
     let linear: Matrix3<f64> = world.fixed_view::<3, 3>(0, 0).into_owned();
     let mirrored = linear.determinant() < 0.0;
     let normal_matrix = linear.try_inverse().map(|m| m.transpose());
@@ -443,6 +482,7 @@ fn mesh_part(
     // identifies the mesh in the file's `meshes` array.
     let name = mesh.index();
     let mut out = Mesh::default();
+    let mut counts = Vec::new();
     let mut all_have_normals = true;
     for prim in mesh.primitives() {
         let mode = prim.mode();
@@ -500,6 +540,7 @@ fn mesh_part(
         };
         all_have_normals &= normals.is_some();
         let parts = vec![SurfacePart::Solid; triangles.len()];
+        counts.push(triangles.len());
         out.append(&Mesh {
             positions,
             normals,
@@ -510,7 +551,7 @@ fn mesh_part(
     if !all_have_normals {
         out.normals = None;
     }
-    Ok(out)
+    Ok((out, counts))
 }
 
 /// Triangles from an index list in a triangle mode (glTF 2.0 §3.7.2.1, primitive topologies).

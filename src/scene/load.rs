@@ -22,6 +22,7 @@ use super::gltf_material::FileMaterial;
 use super::gltf_mesh::{load_gltf, GltfMesh, GltfMeshError};
 use super::material::material;
 use super::mesh_material::mesh_material;
+use super::mesh_target::{mesh_target, GltfParts};
 use super::panel::panel;
 use super::sensor_overrides::resolve_sensor;
 use super::world::{Material, NamedMaterial, Object, ObjectLabel, Target, World};
@@ -69,8 +70,8 @@ pub fn load_str(path: &Path, text: &str) -> Result<World, SceneError> {
 enum Shape<'a> {
     Panel(Box<PanelSpec>, BorderCurve),
     Box,
-    /// With the glTF materials its triangles use.
-    Mesh(Vec<FileMaterial>),
+    /// With the glTF materials its triangles use (and, for the target, its border).
+    Mesh(GltfParts),
     /// Built once every object is known: a tape or cover on another object.
     Fitted(Fitted<'a>),
 }
@@ -103,6 +104,7 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
             path: src.path.to_owned(),
         });
     }
+    let target_def = file.target.as_ref().map(Spanned::get_ref);
     let mut seen: HashMap<&str, Range<usize>> = HashMap::new();
     let mut objects = Vec::with_capacity(file.objects.len());
     let mut shapes = Vec::with_capacity(file.objects.len());
@@ -168,16 +170,26 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
             &format!("{prefix}.pose"),
             src,
         )?;
-        let (mesh, shape) = shape(def, obj.span(), &prefix, src, &mut warnings)?;
+        let (mut mesh, mut shape) = shape(def, obj.span(), &prefix, src, &mut warnings)?;
+        if let (Some(t), Shape::Mesh(parts), Some(mesh_def)) = (target_def, &mut shape, &def.mesh) {
+            if t.object.get_ref() == name {
+                mesh_target(&mut mesh, parts, t, name, mesh_def.get_ref(), src)?;
+            }
+        }
         let m = match (named, &shape, &def.mesh) {
             (Some(m), ..) => m,
-            (None, Shape::Mesh(file_materials), Some(mesh_def)) => {
+            (None, Shape::Mesh(parts), Some(mesh_def)) => {
+                let body: Vec<FileMaterial> = (parts.materials.iter().enumerate())
+                    .filter(|(k, _)| Some(*k) != parts.edge_material)
+                    .map(|(_, m)| m.clone())
+                    .collect();
                 let (material, source) = mesh_material(
                     name,
                     &prefix,
                     &obj.span(),
                     mesh_def.get_ref().file.get_ref(),
-                    file_materials,
+                    &body,
+                    parts.edge_material.map(|k| &parts.materials[k]),
                     def.material_overrides.as_ref(),
                     src,
                     &mut warnings,
@@ -261,6 +273,10 @@ fn build_world(src: &SceneSource, file: &SceneFile) -> Result<World, SceneError>
             };
             let border = match &shapes[k] {
                 Shape::Panel(_, border) => border.clone(),
+                Shape::Mesh(GltfParts {
+                    border: Some(border),
+                    ..
+                }) => border.clone(),
                 other => {
                     return Err(SceneError::TargetNotPanel {
                         path: src.path.to_owned(),
@@ -350,8 +366,20 @@ fn shape<'a>(
             Shape::Box,
         ))
     } else if let Some(m) = &def.mesh {
-        let (mesh, materials) = gltf(m.get_ref(), &format!("{prefix}.mesh"), src, warnings)?;
-        Ok((mesh, Shape::Mesh(materials)))
+        let GltfMesh {
+            mesh,
+            materials,
+            triangle_materials,
+        } = gltf(m.get_ref(), &format!("{prefix}.mesh"), src, warnings)?;
+        Ok((
+            mesh,
+            Shape::Mesh(GltfParts {
+                materials,
+                triangle_materials,
+                border: None,
+                edge_material: None,
+            }),
+        ))
     } else if let Some(t) = &def.tape {
         Ok((Mesh::default(), Shape::Fitted(Fitted::Tape(t))))
     } else if let Some(c) = &def.cover {
@@ -473,7 +501,7 @@ fn gltf(
     prefix: &str,
     src: &SceneSource,
     warnings: &mut Vec<String>,
-) -> Result<(Mesh, Vec<FileMaterial>), SceneError> {
+) -> Result<GltfMesh, SceneError> {
     let scale = match &def.scale {
         Some(s) => src.positive(s, &format!("{prefix}.scale"))?,
         None => 1.0,
@@ -483,7 +511,11 @@ fn gltf(
     let (line, column) = src.line_column(span.start);
     let base = src.path.parent().unwrap_or(Path::new(""));
     let mesh_path = base.join(def.file.get_ref());
-    let GltfMesh { mesh, materials } = load_gltf(&mesh_path, scale).map_err(|e| match e {
+    let GltfMesh {
+        mesh,
+        materials,
+        triangle_materials,
+    } = load_gltf(&mesh_path, scale).map_err(|e| match e {
         GltfMeshError::Open { path, source } => SceneError::MissingMesh {
             path: src.path.to_owned(),
             line,
@@ -520,7 +552,11 @@ fn gltf(
         Some(UpAxisDef::Z) => mesh,
     };
     warnings.extend(mesh_size_warning(&mesh, prefix, def.file.get_ref(), scale));
-    Ok((mesh, materials))
+    Ok(GltfMesh {
+        mesh,
+        materials,
+        triangle_materials,
+    })
 }
 
 fn scan(
@@ -640,7 +676,7 @@ mod tests {
     #[test]
     fn shipped_scenes_load_with_their_objects_and_materials() {
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-        let cases: [(&str, usize, usize, usize, usize, f64); 7] = [
+        let cases: [(&str, usize, usize, usize, usize, f64); 8] = [
             ("flat_opaque.toml", 2, 2, 0, 4, 45.0),
             ("flat_panel.toml", 6, 3, 1, 4, 88.0),
             ("edge_study.toml", 2, 2, 1, 4, 40.0),
@@ -648,6 +684,7 @@ mod tests {
             ("edge_study_tape.toml", 3, 3, 1, 4, 40.0),
             ("edge_study_cover.toml", 3, 3, 1, 4, 40.0),
             ("car_side_window.toml", 6, 2, 1, 12, 45.0),
+            ("car_side_window_gltf.toml", 6, 2, 1, 12, 45.0),
         ];
         for (name, objects, materials, glass, poses, angle) in cases {
             let (o, m, g, p, a) = summary(name);

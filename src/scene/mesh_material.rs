@@ -12,7 +12,10 @@ use super::gltf_material::{FileMaterial, GLTF_DEFAULT_IOR};
 use super::world::{GlassSpec, Material, MaterialSource, MaterialValue};
 
 /// The object `name`'s material (at `prefix`, whose `mesh.file` is `file`) from `materials`,
-/// the glTF materials of its triangles, and `overrides`. `span` locates the object.
+/// the glTF materials of its triangles, and `overrides`. `span` locates the object. `edge` is
+/// the material of a target mesh's edge finish (`geometry::mesh_border`), left out of
+/// `materials`: the body has one material, and the edge material's `roughnessFactor` r gives
+/// the ground edge's microfacet α = r² (glTF 2.0, Appendix B: α = roughness²).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn mesh_material(
     name: &str,
@@ -20,6 +23,7 @@ pub(super) fn mesh_material(
     span: &Range<usize>,
     file: &str,
     materials: &[FileMaterial],
+    edge: Option<&FileMaterial>,
     overrides: Option<&Spanned<MaterialOverridesDef>>,
     src: &SceneSource,
     warnings: &mut Vec<String>,
@@ -104,10 +108,15 @@ pub(super) fn mesh_material(
                 format!("{prefix}.material_overrides"),
                 format!(
                     "is missing `{key}`: {} of `{file}` is glass, and glTF cannot say how its \
-                     faces scatter or how rough its ground edge is; give \
+                     faces scatter{}; give \
                      `material_overrides = {{ face_imperfection = …, edge_roughness = … }}` \
                      (the shipped scenes use 0.002 and 0.3, see scenes/README.md)",
-                    fm.label
+                    fm.label,
+                    if edge.is_some() {
+                        ""
+                    } else {
+                        " or (without an edge material) how rough its ground edge is"
+                    }
                 ),
             )
         };
@@ -115,10 +124,6 @@ pub(super) fn mesh_material(
             .face_imperfection
             .as_ref()
             .ok_or_else(|| missing("face_imperfection"))?;
-        let roughness = o
-            .edge_roughness
-            .as_ref()
-            .ok_or_else(|| missing("edge_roughness"))?;
         let face_imperfection = record(
             "face_imperfection",
             src.number(
@@ -129,11 +134,23 @@ pub(super) fn mesh_material(
             )?,
             "toml",
         );
-        let edge_roughness = record(
-            "edge_roughness",
-            src.non_negative(roughness, &field("edge_roughness"))?,
-            "toml",
-        );
+        let edge_roughness = match (&o.edge_roughness, edge) {
+            (Some(v), _) => record(
+                "edge_roughness",
+                src.non_negative(v, &field("edge_roughness"))?,
+                "toml",
+            ),
+            (None, Some(e)) if e.roughness.is_finite() && e.roughness >= 0.0 => {
+                record("edge_roughness", e.roughness * e.roughness, "file")
+            }
+            (None, Some(e)) => {
+                return Err(from_file(format!(
+                    "the edge material {}'s roughnessFactor must be ≥ 0, got {}",
+                    e.label, e.roughness
+                )))
+            }
+            (None, None) => return Err(missing("edge_roughness")),
+        };
         Material::Glass(GlassSpec {
             ior: Some(ior),
             cauchy: None,
@@ -197,7 +214,10 @@ pub(super) fn mesh_material(
         MaterialSource {
             object: name.to_owned(),
             file: file.to_owned(),
-            gltf_material: fm.label.clone(),
+            gltf_material: match edge {
+                Some(e) => format!("{}, edge finish {}", fm.label, e.label),
+                None => fm.label.clone(),
+            },
             kind,
             values,
         },

@@ -1,5 +1,6 @@
 //! Scene files (TOML) → `World`: objects with meshes and true poses, named materials, the
-//! target panel with its border curve and nominal pose, the sensor head (a preset plus
+//! target (a panel, or a glass mesh whose border `geometry::mesh_border` finds) with its
+//! border curve and nominal pose, the sensor head (a preset plus
 //! overrides), the hand-eye mount and the scan settings.
 //!
 //! `scenes/README.md` is the reference for the file format: every section, field, unit and
@@ -7,7 +8,7 @@
 //!
 //! Invariants of a loaded `World`: at least one object; object names are unique; every object
 //! has a non-empty, structurally valid mesh and a material index into `World::materials`, which
-//! holds exactly the materials the objects use; a target names a panel object; every number is
+//! holds exactly the materials the objects use; a target names a panel or mesh object; every number is
 //! finite and in its documented range.
 //!
 //! Units: scene files use named units (`_mm`, `_deg`, `_ms`, `_nm`, `_mw`, `_um`, `_per_mm`);
@@ -19,11 +20,13 @@ mod edge_def;
 mod error;
 mod file;
 mod fitted;
+pub mod gltf_export;
 pub mod gltf_material;
 pub mod gltf_mesh;
 mod load;
 mod material;
 mod mesh_material;
+mod mesh_target;
 mod panel;
 mod sensor_overrides;
 #[cfg(test)]

@@ -27,8 +27,10 @@
 //! air the ray is within θ_c of the normal.
 //!
 //! Only glass bodies whose transmitted chains use two near-parallel faces get a bound:
-//! procedural panels whose edge is rough (connection chains stop at a rough edge, `connect`).
-//! A glass box, an imported glass mesh or a panel with a smooth edge can act as a prism; then
+//! procedural panels and glTF mesh targets (whose triangles `geometry::mesh_border` tagged as
+//! faces and edge) whose edge is rough (connection chains stop at a rough edge, `connect`).
+//! A glass box, an imported glass mesh that is not the target or a panel with a smooth edge
+//! can act as a prism; then
 //! the scene has no bound and every connection is solved, as before. The test
 //! `validation/physics/glass.rs` checks that images are bit-identical with and without the
 //! bound on the shipped glass scenes.
