@@ -3,7 +3,7 @@
 
 use nalgebra::Point3;
 
-use super::mesh::{Mesh, SurfacePart};
+use super::mesh::Mesh;
 
 /// A closed box of size `size_m` = (x, y, z) extents (m, each > 0), centred on the origin:
 /// 8 vertices, 12 triangles wound counter-clockwise seen from outside, flat shaded
@@ -30,13 +30,7 @@ pub fn cuboid(size_m: [f64; 3]) -> Mesh {
         .iter()
         .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
         .collect();
-    let parts = vec![SurfacePart::Solid; triangles.len()];
-    Mesh {
-        positions,
-        normals: None,
-        triangles,
-        parts,
-    }
+    Mesh::solid(positions, triangles)
 }
 
 #[cfg(test)]
@@ -44,6 +38,7 @@ mod tests {
     use std::collections::HashMap;
 
     use super::*;
+    use crate::geometry::mesh::SurfacePart;
 
     #[test]
     fn cuboid_is_watertight_with_outward_normals() {

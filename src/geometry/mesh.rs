@@ -38,6 +38,17 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// A flat-shaded mesh whose triangles are all `SurfacePart::Solid`.
+    pub fn solid(positions: Vec<Point3<f64>>, triangles: Vec<[u32; 3]>) -> Mesh {
+        let parts = vec![SurfacePart::Solid; triangles.len()];
+        Mesh {
+            positions,
+            normals: None,
+            triangles,
+            parts,
+        }
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()

@@ -445,13 +445,7 @@ pub(crate) fn ring(a: f64, b: f64, t: f64) -> Mesh {
         quad([i, j, 4 + j, 4 + i]); // outer wall
         quad([8 + j, 8 + i, 12 + i, 12 + j]); // inner wall
     }
-    let parts = vec![SurfacePart::Solid; triangles.len()];
-    Mesh {
-        positions,
-        normals: None,
-        triangles,
-        parts,
-    }
+    Mesh::solid(positions, triangles)
 }
 
 #[cfg(test)]
