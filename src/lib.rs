@@ -22,5 +22,6 @@ pub mod sampler;
 pub mod scan;
 pub mod scene;
 pub mod sensor;
+pub mod shipped;
 pub mod study;
 pub mod transport;

@@ -5,6 +5,7 @@
 mod accel;
 mod bad_input;
 mod cli;
+mod cli_help;
 mod common;
 mod convergence;
 mod dataset;

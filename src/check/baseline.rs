@@ -19,8 +19,16 @@ pub struct Baseline {
     pub cases: BTreeMap<String, Metrics>,
 }
 
-/// Reads a baseline; a missing file is an empty baseline (every case new).
+/// Reads a baseline; a missing file is an empty baseline (every case new). A path that does
+/// not exist on disk but is a shipped baseline's (`validation/check/fast.baseline.json`, run
+/// away from the repository root) reads the copy in the binary (`crate::shipped`).
 pub fn read_baseline(path: &Path) -> Result<Baseline, FileError> {
+    if let Some(shipped) = crate::shipped::fallback(path) {
+        return serde_json::from_slice(shipped.bytes).map_err(|source| FileError::JsonRead {
+            path: path.to_path_buf(),
+            source,
+        });
+    }
     if !path.exists() {
         return Ok(Baseline::default());
     }

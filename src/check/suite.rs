@@ -7,7 +7,8 @@
 //!
 //! [[case]]
 //! name = "car_window_45"
-//! scene = "scenes/car_side_window.toml"   # relative to the current directory
+//! scene = "scenes/car_side_window.toml"   # relative to the current directory (a shipped
+//!                                          # scene's path also works elsewhere)
 //! scan_angle_deg = 45
 //! poses = 12
 //! seed = 1
@@ -85,20 +86,9 @@ impl Suite {
     }
 }
 
-/// Finds a suite: a path to a `.toml` file, or a name looked up as `validation/check/NAME.toml`
-/// (from the repository root).
-pub fn resolve_suite_path(name_or_path: &str) -> PathBuf {
-    let p = Path::new(name_or_path);
-    if p.extension().is_some_and(|e| e == "toml") || p.components().count() > 1 {
-        p.to_path_buf()
-    } else {
-        Path::new("validation/check").join(format!("{name_or_path}.toml"))
-    }
-}
-
 /// Reads and validates a suite file. Errors name the file, the case and the field.
 pub fn load_suite(path: &Path) -> anyhow::Result<Suite> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::shipped::read_to_string(path)
         .map_err(|e| anyhow::anyhow!("{}: could not read the suite: {e}", path.display()))?;
     let file: SuiteFile =
         toml::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
@@ -242,9 +232,16 @@ mod tests {
     #[test]
     fn names_resolve_under_validation_check() {
         assert_eq!(
-            resolve_suite_path("fast"),
+            crate::shipped::resolve_suite("fast").unwrap(),
             PathBuf::from("validation/check/fast.toml")
         );
-        assert_eq!(resolve_suite_path("x/y.toml"), PathBuf::from("x/y.toml"));
+        assert_eq!(
+            crate::shipped::resolve_suite("x/y.toml").unwrap(),
+            PathBuf::from("x/y.toml")
+        );
+        // The shipped suite loads from the binary when its file is not on disk.
+        let shipped = crate::shipped::file(Path::new("validation/check/fast.toml")).unwrap();
+        assert!(!shipped.bytes.is_empty());
+        assert!(load_suite(Path::new("validation/check/fast.toml")).is_ok());
     }
 }

@@ -16,7 +16,9 @@ use crate::limits::MAX_SAMPLES;
 /// Arguments of `glassscan dataset`.
 #[derive(Debug, Args)]
 pub struct DatasetArgs {
-    /// Scene file (TOML) with a [target] panel.
+    /// Scene with a [target] panel: a scene file's path (TOML, scenes/README.md) or a shipped scene's name
+    /// (`glassscan scenes list`); a path that exists wins.
+    #[arg(value_name = "SCENE")]
     pub scene: PathBuf,
     /// Number of samples of the whole dataset (all shards), ≥ 1.
     #[arg(long, value_name = "N")]
@@ -28,7 +30,8 @@ pub struct DatasetArgs {
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Domain-randomisation ranges (TOML, `name = [min, max]` lines; see
-    /// scenes/randomize_edge_study.toml).
+    /// scenes/randomize_edge_study.toml, `glassscan scenes export randomize_edge_study.toml
+    /// DIR`). Default: none, every sample of the scene as written.
     #[arg(long, value_name = "FILE")]
     pub randomize: Option<PathBuf>,
     /// Make only the samples i with i % N == K (0 ≤ K < N). Default: from SLURM_ARRAY_TASK_ID
@@ -70,12 +73,13 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
             .map_err(CliError::input)?
             .unwrap_or(Shard::ALL),
     };
-    let template = SceneTemplate::load(&args.scene).map_err(CliError::input)?;
+    let scene = super::scene_path(&args.scene)?;
+    let template = SceneTemplate::load(&scene).map_err(CliError::input)?;
     super::print_scene_warnings(&template.world);
     if template.world.target.is_none() {
         return Err(CliError::input(anyhow::anyhow!(
             "{}: the scene has no [target]: `dataset` needs a panel whose border it scans",
-            args.scene.display()
+            scene.display()
         )));
     }
     let randomization = match &args.randomize {

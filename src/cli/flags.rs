@@ -8,7 +8,7 @@ use crate::limits::{MAX_DEPTH, MAX_PHOTONS, MAX_POSES, MIN_PHOTONS};
 /// `--photons` and `--seed`, shared by the commands that trace light at scan poses.
 #[derive(Debug, clap::Args)]
 pub struct LightArgs {
-    /// Laser photons traced per pose (1000 to 2^40).
+    /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise.
     #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
     pub photons: u64,
     /// Master seed of all random numbers (light, sensor noise, error draws).

@@ -1,12 +1,15 @@
 //! The command line (the only module that names clap). Raw arguments are validated into a
 //! resolved configuration in one step, before any work starts (ripgrep's LowArgs → HiArgs).
 //!
-//! Exit codes: 0 success; 2 bad input (scene file, flags, output directory); 1 anything else.
+//! Exit codes: 0 success; 2 bad input (scene file, flags, output directory, an unknown shipped
+//! name); 1 anything else (a regression, a damaged dataset, an I/O failure).
 
 mod check;
 mod dataset;
+mod docs;
 pub mod embed;
 mod flags;
+mod help;
 mod locate;
 mod locate_out;
 mod manifest;
@@ -14,6 +17,7 @@ mod merge;
 pub mod progress;
 mod register;
 mod scan;
+mod scenes;
 mod score;
 mod study;
 mod sweep;
@@ -25,8 +29,27 @@ use clap::{Parser, Subcommand};
 
 /// A physically based simulator of a laser-line triangulation sensor looking at glass.
 #[derive(Debug, Parser)]
-#[command(name = "glassscan", version, about, long_about = None)]
+#[command(name = "glassscan", version, about, long_about = None, after_long_help = help::top())]
 pub struct Cli {
+    /// Print no progress and no notes (results, warnings and errors still print).
+    #[arg(
+        short,
+        long,
+        global = true,
+        conflicts_with = "verbose",
+        help_heading = "Global options"
+    )]
+    pub quiet: bool,
+    /// Say more: where each scene and suite was read from (a file on disk or the copy shipped
+    /// in glassscan).
+    #[arg(
+        short,
+        long,
+        global = true,
+        action = clap::ArgAction::Count,
+        help_heading = "Global options"
+    )]
+    pub verbose: u8,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -38,42 +61,52 @@ pub struct Cli {
 pub enum Command {
     /// Simulate the sensor at scan poses along the target's border and write images,
     /// profiles and a manifest.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::SCAN)]
     Scan(scan::ScanArgs),
     /// Scan the target's border, pick a Border Identifier Point per profile, register them to
     /// the model by ICP and report the errors against ground truth (the paper's pipeline).
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::LOCATE)]
     Locate(locate::LocateArgs),
     /// Register your own border points (CSV, base frame, mm) to a scene's target border by
     /// ICP from its nominal pose, and print the pose.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::REGISTER)]
     Register(register::RegisterArgs),
-    /// Run a regression suite (validation/check/) and compare its metrics with the committed
-    /// baseline; exit 1 if any regressed.
-    #[command(allow_negative_numbers = true)]
+    /// Run a regression suite (`fast` when none is named; shipped: fast, full) and compare its
+    /// metrics with the committed baseline; exit 1 if any regressed.
+    #[command(allow_negative_numbers = true, after_long_help = help::CHECK)]
     Check(check::CheckArgs),
     /// Make N samples of synthetic sensor data with exact ground truth, optionally with domain
     /// randomisation, in shards, resumable.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::DATASET)]
     Dataset(dataset::DatasetArgs),
     /// Join the shard manifests of a dataset into one manifest.jsonl sorted by sample index.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::MERGE)]
     Merge(merge::MergeArgs),
     /// Score your own Border Identifier Points (CSV) against a dataset's ground truth.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::SCORE)]
     Score(score::ScoreArgs),
     /// Studies of the paper: `study scan-angle` runs the edge experiment (tape, cover, bare)
     /// over scan angles and reports the BIP error against ground truth.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::STUDY)]
     Study(study::StudyArgs),
     /// BIP error, valid fraction, saturation and wrong-surface fraction over a grid of scan
     /// angle × exposure × threshold × peak selection, with heat maps.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::SWEEP)]
     Sweep(sweep::SweepArgs),
     /// Check that a dataset is complete and that every sample's files have the size and
     /// SHA-256 its manifest line records; exit 1 if anything is damaged or missing.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = help::VERIFY)]
     Verify(verify::VerifyArgs),
+    /// List the scenes, randomisation files and suites shipped in glassscan, or export one to
+    /// edit (`scenes list`, `scenes export NAME DIR`).
+    #[command(after_long_help = help::SCENES)]
+    Scenes(scenes::ScenesArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
+    #[command(after_long_help = help::COMPLETIONS)]
+    Completions(docs::CompletionsArgs),
+    /// Write man pages: glassscan.1 and one per subcommand, into DIR.
+    #[command(after_long_help = help::MAN)]
+    Man(docs::ManArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -127,10 +160,29 @@ impl CliError {
     }
 }
 
-/// Loads the scene file at `path` (bad input: exit code 2) and prints the loader's warnings
-/// on stderr.
-fn load_scene(path: &std::path::Path) -> Result<crate::scene::World, CliError> {
-    let world = crate::scene::load(path).map_err(CliError::input)?;
+/// The scene file a SCENE argument names: the path itself when it exists, else a shipped
+/// scene by name or repository path (`crate::shipped::resolve_scene`); an unknown name is bad
+/// input (exit code 2) whose message lists the shipped names.
+fn scene_path(arg: &std::path::Path) -> Result<std::path::PathBuf, CliError> {
+    let path = crate::shipped::resolve_scene(arg).map_err(CliError::input)?;
+    if crate::shipped::fallback(&path).is_some() {
+        progress::detail(format_args!(
+            "{}: the scene shipped in glassscan {} (no such file here; `glassscan scenes \
+             export {} DIR` writes it)",
+            path.display(),
+            env!("CARGO_PKG_VERSION"),
+            path.file_stem().and_then(|s| s.to_str()).unwrap_or("NAME")
+        ));
+    } else {
+        progress::detail(format_args!("{}: the scene file on disk", path.display()));
+    }
+    Ok(path)
+}
+
+/// Loads the scene SCENE names ([`scene_path`]; bad input: exit code 2) and prints the
+/// loader's warnings on stderr.
+fn load_scene(arg: &std::path::Path) -> Result<crate::scene::World, CliError> {
+    let world = crate::scene::load(&scene_path(arg)?).map_err(CliError::input)?;
     print_scene_warnings(&world);
     Ok(world)
 }
@@ -161,6 +213,7 @@ pub fn run() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
     };
+    progress::set_verbosity(cli.quiet, cli.verbose);
     let outcome = match cli.command {
         Command::Scan(args) => scan::run(args),
         Command::Locate(args) => locate::run(args),
@@ -172,6 +225,9 @@ pub fn run() -> ExitCode {
         Command::Score(args) => score::run(args),
         Command::Study(args) => study::run(args),
         Command::Sweep(args) => sweep::run(args),
+        Command::Scenes(args) => scenes::run(args),
+        Command::Completions(args) => docs::completions(&args),
+        Command::Man(args) => docs::man(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -18,7 +18,9 @@ use crate::scene;
 /// Arguments of `glassscan register`.
 #[derive(Debug, Args)]
 pub struct RegisterArgs {
-    /// Scene file whose [target] gives the model border and the nominal (initial) pose.
+    /// Scene whose [target] gives the model border and the nominal (initial) pose: a scene
+    /// file's path or a shipped scene's name (a path that exists wins).
+    #[arg(value_name = "MODEL_SCENE")]
     pub model_scene: PathBuf,
     /// CSV of border points in the base frame: a header naming x_mm, y_mm, z_mm (other
     /// columns ignored), one point per row; `locate --out` writes such a `bips.csv`.
@@ -29,7 +31,8 @@ pub struct RegisterArgs {
 }
 
 /// Runs `glassscan register`.
-pub fn run(args: RegisterArgs) -> Result<(), CliError> {
+pub fn run(mut args: RegisterArgs) -> Result<(), CliError> {
+    args.model_scene = super::scene_path(&args.model_scene)?;
     let world = super::load_scene(&args.model_scene)?;
     let rows = read_points_csv(&args.bips).map_err(CliError::input)?;
     let (result, reg) = summary(&world, &args.model_scene, &args.bips, &rows)?;

@@ -16,6 +16,7 @@ use crate::plot::edge_scatter::EdgeScatter;
 use crate::plot::save;
 use crate::scene;
 use crate::sensor::SensorHead;
+use crate::shipped;
 use crate::study::as_typed;
 use crate::study::finding_map::{run_finding_map, FindingMapConfig, MapCell};
 use crate::study::finding_map_report::{map_csv, map_heat_maps, map_json};
@@ -42,17 +43,18 @@ pub enum StudyCommand {
     /// The paper's edge experiment (Section III-C, Figs. 6–7): tape, cover and bare pane at
     /// several scan angles; points in the edge frame of p_e, BIP errors by both rules, and the
     /// BIP error over a sweep of scan angles.
-    #[command(allow_negative_numbers = true)]
+    #[command(allow_negative_numbers = true, after_long_help = super::help::STUDY_SCAN_ANGLE)]
     ScanAngle(ScanAngleArgs),
 }
 
 /// Arguments of `glassscan study scan-angle`.
 #[derive(Debug, Args)]
 pub struct ScanAngleArgs {
-    /// The bare-pane scene. The tape and cover variants are its siblings `<stem>_tape.toml`
-    /// and `<stem>_cover.toml` (a trailing `_bare` of the stem is dropped first); a missing
-    /// sibling is skipped, with a note.
-    #[arg(default_value = "scenes/edge_study.toml")]
+    /// The bare-pane scene: a file's path or a shipped scene's name (a path that exists wins;
+    /// the default is the shipped edge_study, from any directory). The tape and cover variants
+    /// are its siblings `<stem>_tape.toml` and `<stem>_cover.toml` (a trailing `_bare` of the
+    /// stem is dropped first); a missing sibling is skipped, with a note.
+    #[arg(value_name = "SCENE", default_value = "scenes/edge_study.toml")]
     pub scene: PathBuf,
     /// Scan angles of the edge plots, comma-separated degrees, each in (0, 90].
     #[arg(long, value_name = "LIST", default_value = "10,40,45")]
@@ -131,7 +133,7 @@ fn setup(path: &Path, variant: Variant) -> Result<(VariantSetup, scene::World), 
     Ok((s, world))
 }
 
-fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
+fn run_scan_angle(mut args: ScanAngleArgs) -> Result<(), CliError> {
     let started = Instant::now();
     // Every flag is checked before any scene is loaded or any work starts.
     let angles_rad = flags::list("angles-deg", &args.angles_deg, |s| {
@@ -160,6 +162,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
         Some(map_settings(&args)?)
     };
     flags::photons(args.light.photons)?;
+    args.scene = super::scene_path(&args.scene)?;
 
     let (bare, bare_world) = setup(&args.scene, Variant::Bare)?;
     let mut setups = Vec::new();
@@ -167,7 +170,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     let mut scenes = serde_json::Map::new();
     for v in [Variant::Tape, Variant::Cover] {
         let path = sibling(&args.scene, v);
-        if path.is_file() {
+        if shipped::is_file(&path) {
             setups.push(setup(&path, v)?.0);
             scenes.insert(v.name().into(), json!(path.display().to_string()));
         } else {
@@ -186,7 +189,7 @@ fn run_scan_angle(args: ScanAngleArgs) -> Result<(), CliError> {
     }
     if !args.json {
         for n in &notes {
-            eprintln!("note: {n}");
+            progress::note(n);
         }
     }
 

@@ -162,7 +162,8 @@ impl Randomization {
     /// background distance. The scene's own limits are checked by
     /// `scene_edit::SceneTemplate::check_randomization`.
     pub fn load(path: &Path) -> Result<Randomization, DatasetError> {
-        let text = std::fs::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
+        let text =
+            crate::shipped::read_to_string(path).map_err(|e| DatasetError::io(path, "read", e))?;
         Randomization::parse(path, text)
     }
 

@@ -44,7 +44,7 @@ pub struct SceneTemplate {
 impl SceneTemplate {
     /// Loads the scene file at `path` (errors are the scene loader's, with line and column).
     pub fn load(path: &Path) -> Result<SceneTemplate, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = crate::shipped::read_to_string(path).map_err(|source| SceneError::Io {
             path: path.to_owned(),
             source,
         })?;

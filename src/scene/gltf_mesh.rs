@@ -70,7 +70,7 @@ pub struct GltfMesh {
 
 /// [`load_gltf_mesh`], with the materials its triangles use.
 pub fn load_gltf(path: &Path, scale: f64) -> Result<GltfMesh, GltfMeshError> {
-    let bytes = std::fs::read(path).map_err(|source| GltfMeshError::Open {
+    let bytes = crate::shipped::read(path).map_err(|source| GltfMeshError::Open {
         path: path.to_owned(),
         source,
     })?;

@@ -44,11 +44,13 @@ const DEFAULT_START_FRACTION: f64 = 0.1;
 
 /// Reads a scene file and builds the `World` it describes, in SI units.
 ///
-/// Mesh files are resolved against the scene file's folder. Every error names the file and,
+/// Mesh files are resolved against the scene file's folder. A path that does not exist on
+/// disk but is the repository path of a shipped scene or mesh (`scenes/edge_study.toml`)
+/// reads the copy in the binary (`crate::shipped`). Every error names the file and,
 /// where it has one, the line and column of the offending value (see [`SceneError`]). Scenes
 /// with glass materials load; the light transport decides whether it can simulate them.
 pub fn load(path: &Path) -> Result<World, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+    let text = crate::shipped::read_to_string(path).map_err(|source| SceneError::Io {
         path: path.to_owned(),
         source,
     })?;
