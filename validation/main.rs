@@ -9,6 +9,7 @@ mod common;
 mod convergence;
 mod dataset;
 mod physics;
+mod report;
 mod scenes;
 mod stats;
 mod study;

@@ -13,6 +13,7 @@ mod manifest;
 mod merge;
 pub mod progress;
 mod register;
+mod report;
 mod scan;
 mod score;
 mod study;
@@ -74,6 +75,9 @@ pub enum Command {
     /// SHA-256 its manifest line records; exit 1 if anything is damaged or missing.
     #[command(allow_negative_numbers = true)]
     Verify(verify::VerifyArgs),
+    /// Write one self-contained HTML page of a study, sweep, locate run or dataset directory:
+    /// settings, tables, figures, and the paper's numbers beside ours.
+    Report(report::ReportArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -172,6 +176,7 @@ pub fn run() -> ExitCode {
         Command::Score(args) => score::run(args),
         Command::Study(args) => study::run(args),
         Command::Sweep(args) => sweep::run(args),
+        Command::Report(args) => report::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
