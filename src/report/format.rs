@@ -63,6 +63,16 @@ pub fn percent(v: f64) -> String {
     }
 }
 
+/// A setting as it was typed (10°, 0.15 ms): the shortest form when it has at most six
+/// decimals, otherwise by [`num`] (a measured value such as a run time).
+pub fn typed(f: f64) -> String {
+    if f.is_finite() && ((f * 1e6).round() / 1e6 - f).abs() < 1e-12 {
+        format!("{f}")
+    } else {
+        num(f)
+    }
+}
+
 /// A JSON value of the run's settings as text: strings as they are, numbers by [`num`] when
 /// they are not integers, arrays joined by commas (`none` when empty), null as a dash, objects
 /// as `key: value` pairs.
@@ -75,16 +85,7 @@ pub fn setting(v: &serde_json::Value) -> String {
         Value::Number(n) => match n.as_i64() {
             Some(i) => i.to_string(),
             // Settings are shown as typed (0.15 ms, 45°); measured values (a run time) by num.
-            None => n.as_f64().map_or_else(
-                || n.to_string(),
-                |f| {
-                    if ((f * 1e6).round() / 1e6 - f).abs() < 1e-12 {
-                        format!("{f}")
-                    } else {
-                        num(f)
-                    }
-                },
-            ),
+            None => n.as_f64().map_or_else(|| n.to_string(), typed),
         },
         Value::Array(items) if items.is_empty() => "none".into(),
         Value::Array(items) => items.iter().map(setting).collect::<Vec<_>>().join(", "),
@@ -112,6 +113,10 @@ mod tests {
         assert_eq!(num(f64::NAN), MISSING);
         assert_eq!(opt(None), MISSING);
         assert_eq!(percent(0.0720588), "7.2 %");
+        assert_eq!(
+            (typed(10.0), typed(0.15), typed(783.640418732)),
+            ("10".into(), "0.15".into(), "783.6".into())
+        );
         assert_eq!(percent(1.0), "100 %");
         assert_eq!(percent(0.00198), "0.20 %");
     }

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use super::format::{num, percent, stats, MISSING};
+use super::format::{percent, stats, typed, MISSING};
 use super::html::{Cell, Page, Table};
 use super::json_view::{read_json_file, Node};
 use super::{listed_figures, paper, place_figures, settings_table, ReportError};
@@ -16,7 +16,7 @@ fn axis(cells: &[Node], key: &str) -> Result<Vec<String>, ReportError> {
         let v = c.get(key)?;
         let t = match v.value() {
             serde_json::Value::String(s) => s.clone(),
-            _ => num(v.f64()?),
+            _ => typed(v.f64()?),
         };
         if !out.contains(&t) {
             out.push(t);
@@ -72,7 +72,7 @@ pub fn page(dir: &Path) -> Result<String, ReportError> {
     ]);
     for f in &paper::ANGLE_FINDINGS[..2] {
         t.row(vec![
-            Cell::text(format!("edge experiment at {}°", num(f.angle_deg))),
+            Cell::text(format!("edge experiment at {}°", typed(f.angle_deg))),
             Cell::paper(f.finding),
             Cell::note(f.source),
         ]);
@@ -111,8 +111,8 @@ pub fn page(dir: &Path) -> Result<String, ReportError> {
         let (h, hv) = rule("highest")?;
         t.row(vec![
             Cell::num(c.get("cell")?.u64()?.to_string()),
-            Cell::num(format!("{}°", num(c.get("scan_angle_deg")?.f64()?))),
-            Cell::num(num(c.get("exposure_ms")?.f64()?)),
+            Cell::num(format!("{}°", typed(c.get("scan_angle_deg")?.f64()?))),
+            Cell::num(typed(c.get("exposure_ms")?.f64()?)),
             Cell::text(c.get("threshold")?.str()?),
             Cell::text(c.get("peak_select")?.str()?),
             Cell::num(e),
