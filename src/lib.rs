@@ -18,6 +18,7 @@ pub mod limits;
 pub mod localise;
 pub mod optics;
 pub mod plot;
+pub mod report;
 pub mod sampler;
 pub mod scan;
 pub mod scene;

@@ -11,6 +11,7 @@ mod convergence;
 mod dataset;
 mod gltf_target;
 mod physics;
+mod report;
 mod scenes;
 mod stats;
 mod study;

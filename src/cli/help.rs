@@ -37,6 +37,7 @@ pub const TOP: &str = concat!(
     "    glassscan scan edge_study --out out/edge          # simulate 4 poses, write images\n",
     "    glassscan locate car_side_window --poses 12       # the paper's pipeline, errors\n",
     "    glassscan study scan-angle --out out/study        # the paper's edge experiment\n",
+    "    glassscan report out/study                        # ... as one HTML page\n",
     "    glassscan check                                   # regression suite `fast`\n",
     "    glassscan completions bash > ~/.local/share/bash-completion/completions/glassscan\n",
     "\n",
@@ -221,6 +222,20 @@ pub const SCENES_EXPORT: &str = concat!(
     "    glassscan scenes export randomize_edge_study.toml work\n",
     "    glassscan scenes export fast suites              # fast.toml, fast.baseline.json\n",
     "    glassscan scenes export all work --force         # everything, overwriting\n",
+    "\n",
+    exit_status!(),
+);
+
+/// `glassscan report --help`.
+pub const REPORT: &str = concat!(
+    "EXAMPLES:\n",
+    "    glassscan study scan-angle --out out/study && glassscan report out/study\n",
+    "    #   -> out/study/report.html: settings, tables, figures, the paper's numbers\n",
+    "    glassscan locate car_side_window --poses 12 --out out/loc && glassscan report out/loc\n",
+    "    glassscan report out/ds --out ds_report.html    # a dataset: samples, errors, files\n",
+    "\n",
+    "The page is one file (inline SVG and CSS, no script, no network): mail it or open it\n",
+    "anywhere. A study, sweep, locate or dataset directory is recognised by its files.\n",
     "\n",
     exit_status!(),
 );

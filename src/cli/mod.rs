@@ -16,6 +16,7 @@ mod manifest;
 mod merge;
 pub mod progress;
 mod register;
+mod report;
 mod scan;
 mod scenes;
 mod score;
@@ -107,6 +108,10 @@ pub enum Command {
     /// Write man pages: glassscan.1 and one per subcommand, into DIR.
     #[command(after_long_help = help::MAN)]
     Man(docs::ManArgs),
+    /// Write one self-contained HTML page of a study, sweep, locate run or dataset directory:
+    /// settings, tables, figures, and the paper's numbers beside ours.
+    #[command(after_long_help = help::REPORT)]
+    Report(report::ReportArgs),
 }
 
 /// A failure, with the exit code it maps to.
@@ -228,6 +233,7 @@ pub fn run() -> ExitCode {
         Command::Scenes(args) => scenes::run(args),
         Command::Completions(args) => docs::completions(&args),
         Command::Man(args) => docs::man(&args),
+        Command::Report(args) => report::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
