@@ -314,7 +314,10 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("edge_studdy: no such file"), "{e}");
-        assert!(e.contains("car_side_window, edge_study,"), "{e}");
+        assert!(
+            e.contains("car_side_window, car_side_window_gltf, edge_study,"),
+            "{e}"
+        );
         // A randomisation file or a mesh is not a scene.
         assert!(resolve_scene(Path::new("randomize_edge_study")).is_err());
         assert!(resolve_scene(Path::new("other/edge_study.toml")).is_err());
