@@ -12,6 +12,7 @@ use glassscan::scan::poses::{plan_border_scan, ScanPose};
 use glassscan::scan::simulate::simulate_pose;
 use glassscan::scan::warnings::pose_warnings;
 use glassscan::scene::{self, World};
+use glassscan::shipped;
 use glassscan::transport::TraceSettings;
 use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -50,7 +51,7 @@ impl Scene {
 
 #[pymethods]
 impl Scene {
-    /// The scene file at `path`, or the TOML `text` (then `path` names it in messages and
+    /// The scene file at `path` (or a shipped scene's name, e.g. "edge_study"), or the TOML `text` (then `path` names it in messages and
     /// anchors relative mesh paths); the keywords override its settings as `scan`'s flags do.
     #[staticmethod]
     #[pyo3(signature = (path, text=None, *, scan_angle_deg=None, poses=None, exposure_ms=None, threshold=None, peak_select=None, sensor_kind=None))]
@@ -67,7 +68,8 @@ impl Scene {
         sensor_kind: Option<String>,
     ) -> PyResult<Scene> {
         let world = match text {
-            None => scene::load(&path),
+            // A path that exists, else a shipped scene's name, as the command line's SCENE.
+            None => scene::load(&shipped::resolve_scene(&path).map_err(input)?),
             Some(text) => scene::load_str(&path, text),
         }
         .map_err(input)?;

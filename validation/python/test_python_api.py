@@ -172,6 +172,19 @@ def test_bad_scene_files_raise_the_command_lines_message(tmp_path):
     assert issubclass(glassscan.InputError, glassscan.GlassscanError)
 
 
+def test_a_shipped_scene_loads_by_name_from_any_directory(tmp_path, monkeypatch):
+    # As the command line's SCENE: away from the repository the name reads the copy shipped
+    # in the binary, the same scene as the file.
+    monkeypatch.chdir(tmp_path)
+    by_name = glassscan.Scene.load("edge_study_bare", poses=1)
+    by_file = glassscan.Scene.load(SCENE, poses=1)
+    assert Path(by_name.path) == Path("scenes/edge_study_bare.toml")
+    a, b = by_name.simulate(0, photons=4096, seed=1), by_file.simulate(0, photons=4096, seed=1)
+    assert a.image.tobytes() == b.image.tobytes()
+    with pytest.raises(glassscan.InputError, match="shipped scenes: car_side_window"):
+        glassscan.Scene.load("edge_studdy")
+
+
 def test_from_toml_equals_load():
     a = glassscan.Scene.load(SCENE, poses=1)
     b = glassscan.Scene.from_toml(SCENE.read_text(), path=SCENE, poses=1)

@@ -92,7 +92,9 @@ class Scene:
         peak_select: Optional[str] = None,
         sensor_kind: Optional[str] = None,
     ) -> "Scene":
-        """Loads the scene file at ``path`` (TOML).
+        """Loads the scene file at ``path`` (TOML), or a scene shipped in glassscan by its
+        name (``Scene.load("edge_study")``; a file on disk of that name wins), as the command
+        line's SCENE argument.
 
         Args:
             scan_angle_deg: scan angle above the surface's tangent plane, (0, 90].
