@@ -2,7 +2,7 @@
 //! photon count of every command (`transport::DEFAULT_PHOTONS`) must give profiles that cannot
 //! be told from a 2^22-photon reference on the shipped glass scenes, and a photon count known
 //! to be too low (2^14) must fail, so the test has the power to see a difference. Slow tier
-//! (`cargo test --release -- --ignored`, ~2 min on 2 cores): the committed references were made
+//! (`cargo test --release -- --ignored`, ~5 min on 2 cores for both scenes): the committed references were made
 //! by `examples/convergence.rs` (which documents the seeds and poses), and must be regenerated
 //! with it when the physics or the sensor's noise streams change.
 
@@ -49,7 +49,7 @@ fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Ver
 }
 
 #[test]
-#[ignore = "slow tier: ~1 min on 2 cores"]
+#[ignore = "slow tier: ~2.5 min on 2 cores"]
 fn the_default_photon_count_is_converged_on_edge_study_bare_at_40_degrees() {
     let (scene, results) = ("edge_study_bare.toml", "edge_study_bare");
     assert!(verdict(scene, 40.0, results, DEFAULT_PHOTONS).converged);
@@ -57,7 +57,7 @@ fn the_default_photon_count_is_converged_on_edge_study_bare_at_40_degrees() {
 }
 
 #[test]
-#[ignore = "slow tier: ~1 min on 2 cores"]
+#[ignore = "slow tier: ~2.5 min on 2 cores"]
 fn the_default_photon_count_is_converged_on_the_car_side_window_at_45_degrees() {
     let (scene, results) = ("car_side_window.toml", "car_side_window_45");
     assert!(verdict(scene, 45.0, results, DEFAULT_PHOTONS).converged);
