@@ -232,7 +232,7 @@ pub const REPORT: &str = concat!(
     "    glassscan study scan-angle --out out/study && glassscan report out/study\n",
     "    #   -> out/study/report.html: settings, tables, figures, the paper's numbers\n",
     "    glassscan locate car_side_window --poses 12 --out out/loc && glassscan report out/loc\n",
-    "    glassscan report out/ds --out ds_report.html    # a dataset: samples, errors, files\n",
+    "    glassscan report out/ds --out ds_report.html    # a dataset: settings, draws, points\n",
     "\n",
     "The page is one file (inline SVG and CSS, no script, no network): mail it or open it\n",
     "anywhere. A study, sweep, locate or dataset directory is recognised by its files.\n",
