@@ -324,6 +324,30 @@ impl SceneAccel {
         })
     }
 
+    /// How the unit shading normal of triangle `tri` (an index as in [`Hit::triangle`]) at
+    /// barycentrics `uv` changes when the point moves by `dp` in the triangle's plane: the
+    /// derivative of normalize(n_a·(1 − u − v) + n_b·u + n_c·v), with (du, dv) from `dp` by
+    /// the triangle's Gram matrix; zero on a flat-shaded triangle. What ray differentials
+    /// through smooth-shaded glass need (`transport::connect`'s analytic Jacobian).
+    pub fn shading_normal_change(&self, tri: u32, uv: [f64; 2], dp: &Vector3<f64>) -> Vector3<f64> {
+        let Some([na, nb, nc]) = &self.input[tri as usize].normals else {
+            return Vector3::zeros();
+        };
+        let x = &self.exact[tri as usize];
+        let (d20, d21) = (dp.dot(&x.e1), dp.dot(&x.e2));
+        let du = (x.d11 * d20 - x.d01 * d21) / x.det;
+        let dv = (x.d00 * d21 - x.d01 * d20) / x.det;
+        let [u, v] = uv;
+        let m = na * (1.0 - u - v) + nb * u + nc * v;
+        let len = m.norm();
+        if len < 1e-12 {
+            return Vector3::zeros();
+        }
+        let n = m / len;
+        let dm = (nb - na) * du + (nc - na) * dv;
+        (dm - n * n.dot(&dm)) / len
+    }
+
     /// [`Self::make_hit`] for the triangle the traversal `found`; its f32 barycentrics are
     /// computed only if they are needed.
     fn make_bvh_hit(
@@ -343,7 +367,7 @@ impl SceneAccel {
 
     /// Completes a hit found in f32 on input triangle `tri`: the distance, point and
     /// barycentrics are recomputed in f64 against the triangle's f64 vertices, so hit points are
-    /// exact to f64 rounding (what finite differences of connection paths through glass need).
+    /// exact to f64 rounding (what the Newton solves of connection paths through glass need).
     /// `f32_hit` gives the f32 test's (t in m, u, v), used only for a ray that grazes the plane.
     fn make_hit(
         &self,
