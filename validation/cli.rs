@@ -1,19 +1,8 @@
 //! The command line on good and bad input: exit codes, messages, output-directory safety.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn glassscan(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glassscan"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the glassscan binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::binary::{glassscan, stderr};
 
 fn out_dir(tmp: &tempfile::TempDir, name: &str) -> PathBuf {
     tmp.path().join(name)

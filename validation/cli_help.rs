@@ -3,28 +3,13 @@
 //! name, progress off a terminal and `-q`.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use clap::CommandFactory;
 use glassscan::cli::Cli;
 
+use crate::binary::{glassscan_in, stderr, stdout};
+
 /// Runs glassscan in `cwd` (stdin, stdout and stderr are pipes: not a terminal).
-fn glassscan_in(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glassscan"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("the glassscan binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
 fn repo() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }

@@ -4,6 +4,7 @@
 
 mod accel;
 mod bad_input;
+mod binary;
 mod cli;
 mod cli_help;
 mod common;

@@ -5,23 +5,12 @@
 //! and an earlier page is left as it was. (The page in a real browser: validation/python.)
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use glassscan::report::format::num;
 use glassscan::report::xml_check::check_well_formed;
 use serde_json::Value;
 
-fn glassscan(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glassscan"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the glassscan binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::binary::{glassscan, stderr};
 
 fn run_ok(args: &[&str]) {
     let o = glassscan(args);

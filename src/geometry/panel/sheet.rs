@@ -15,7 +15,7 @@ use nalgebra::Point2;
 
 use super::contour::{segments, RimPoint};
 use super::{polygon, Curvature};
-use crate::geometry::mesh::{Mesh, SurfacePart};
+use crate::geometry::mesh::Mesh;
 
 /// `points` with every segment longer than `max_step_m` split evenly, so that a profile laid
 /// across a bent face follows the bend with chords no longer than the face's own.
@@ -134,13 +134,7 @@ pub(super) fn sweep(
             triangles.push([a0, b1, b0]);
         }
     }
-    let parts = vec![SurfacePart::Solid; triangles.len()];
-    Mesh {
-        positions,
-        normals: None,
-        triangles,
-        parts,
-    }
+    Mesh::solid(positions, triangles)
 }
 
 #[cfg(test)]
