@@ -95,6 +95,7 @@ fn main() {
             "verdict": v,
             "wall_s_per_profile": s_per_profile,
             "bip_error_mm": independent.iter().map(|s| s.bip_error_mm).collect::<Vec<_>>(),
+            "same_seed_bip_shift_mm": reference.iter().zip(&same).map(|(a, b)| bip_shift_mm(a, b)).collect::<Vec<_>>(),
         }));
     }
     let summary = json!({
@@ -112,4 +113,11 @@ fn main() {
         serde_json::to_string_pretty(&summary).unwrap(),
     )
     .unwrap();
+}
+
+/// How far the BIP of one (pose, seed) moved from the reference's (mm); `None` when either
+/// profile has no BIP.
+fn bip_shift_mm(reference: &ProfileSample, at_n: &ProfileSample) -> Option<f64> {
+    let (a, b) = (reference.bip_mm?, at_n.bip_mm?);
+    Some(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
 }

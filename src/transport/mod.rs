@@ -7,7 +7,8 @@
 //!   reflection or transmission has the probability of the Mueller-transformed intensity, so Φ
 //!   is kept); Snell refraction, total internal reflection and Beer–Lambert absorption along
 //!   every segment inside glass. A fraction `face_imperfection` of face interactions scatters
-//!   diffusely instead (dust, micro-defects).
+//!   diffusely instead (dust, micro-defects); its camera connection is made more often than
+//!   that fraction, with the weight that keeps its mean (`IMPERFECTION_CONNECTION_RATE`).
 //! - Rough glass edges scatter by a GGX microfacet dielectric (reflection and transmission,
 //!   Walter et al. 2007), with the Fresnel factor of the sampled microfacet applied to the
 //!   Stokes vector.
@@ -39,4 +40,4 @@ pub mod trace;
 pub use crate::sensor::path_class::PathClass;
 pub use film::Irradiance;
 pub use scene::{TraceScene, TransportError};
-pub use trace::{render, TraceSettings, TraceStats, DEFAULT_PHOTONS};
+pub use trace::{render, TraceSettings, TraceStats, DEFAULT_PHOTONS, IMPERFECTION_CONNECTION_RATE};

@@ -167,6 +167,49 @@ fn pane_in_the_laser_path_transmits_the_slab_fraction() {
 }
 
 #[test]
+fn face_imperfections_return_their_fraction_of_a_white_diffuse_plate() {
+    // The model's definition: a fraction p = face_imperfection of the light meeting a face
+    // scatters diffusely with albedo 1. A pane that absorbs all it lets in (α = 10⁴ /m over
+    // 10 mm) returns through its imperfections exactly p times the direct return of a white
+    // Lambertian plate in the same place. The tracer connects the imperfections to the camera
+    // with probability q = IMPERFECTION_CONNECTION_RATE and weight p/q (not with probability p
+    // and weight 1), so the flux is a binomial fraction of the laser's hits: relative standard
+    // deviation √((1 − q)/(q·hits)); both runs share the lens samples, so that is the ratio's.
+    let p = 0.002;
+    let photons = 1 << 18;
+    let mut white = facing_plate(300.0, 0.0);
+    white.albedo = 1.0;
+    let board = simulate(&world_of_boxes(&[white]), photons, 5);
+    let mut world = world_of_boxes(&[]);
+    let mut glass = clear_glass(1.515, 1e4);
+    glass.face_imperfection = p;
+    add_glass_box(
+        &mut world,
+        [400.0, 400.0, 10.0],
+        [0.0, 0.0, 305.0],
+        [0.0; 3],
+        glass,
+    );
+    let pane = simulate(&world, photons, 5);
+    let face: f64 = pane.irradiance.by_class[PathClass::GlassFace.index()]
+        .data
+        .iter()
+        .sum();
+    let white_sum: f64 = board.irradiance.total.data.iter().sum();
+    let q = glassscan::transport::IMPERFECTION_CONNECTION_RATE;
+    let sigma = ((1.0 - q) / (q * pane.stats.laser_hits as f64)).sqrt();
+    let ratio = face / white_sum / p;
+    eprintln!("imperfection return / (p × white plate) = {ratio:.4} (σ = {sigma:.4})");
+    assert!(
+        (ratio - 1.0).abs() < 4.0 * sigma,
+        "{ratio} vs 1 ± 4·{sigma}"
+    );
+    // With the connection made only where the scattering is picked (q = p) the same run would
+    // scatter √(q/p) = 5× more: this photon count would not tell a 10 % error apart.
+    assert!(4.0 * sigma < 0.04);
+}
+
+#[test]
 fn estimate_converges_at_least_as_one_over_root_n_and_is_thread_independent() {
     // A plate behind a pane that is tilted 30° in the laser path (refraction, Fresnel split,
     // internal reflections), and a face imperfection so diffuse vertices sit on the glass too.
