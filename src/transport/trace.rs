@@ -383,7 +383,6 @@ impl Tracer<'_> {
             class,
             false,
             lens_u,
-            1.0,
         );
         photon.all_specular = false;
         if u_rr >= lambert.albedo {
@@ -435,7 +434,6 @@ impl Tracer<'_> {
                 PathClass::GlassEdge,
                 true,
                 u.lens,
-                1.0,
             );
             photon.all_specular = false;
             return match scatter_rough(&vertex, &mut photon.stokes) {
@@ -474,14 +472,17 @@ impl Tracer<'_> {
             } else {
                 PathClass::GlassFace
             };
+            // Albedo 1, times the weight p/q.
             self.connect_vertex(
                 photon,
                 hit,
-                &Connectable::Diffuse { n: ns, albedo: 1.0 },
+                &Connectable::Diffuse {
+                    n: ns,
+                    albedo: p / q,
+                },
                 class,
                 true,
                 u.lens,
-                p / q,
             );
         }
         if u.imperfection < p {
@@ -521,7 +522,6 @@ impl Tracer<'_> {
         class: PathClass,
         on_glass: bool,
         lens_u: [f64; 2],
-        weight: f64,
     ) {
         let lens_point = self.aperture.point(concentric_disk(lens_u));
         let vertex_on_surface = VertexOnSurface {
@@ -564,8 +564,7 @@ impl Tracer<'_> {
             } else {
                 class
             };
-            let flux =
-                photon.flux * weight * f_cos * self.aperture.area() * c.dw_da * c.end.transmittance;
+            let flux = photon.flux * f_cos * self.aperture.area() * c.dw_da * c.end.transmittance;
             self.splat(&lens_point, &c.end.dir, flux, class);
         }
     }
