@@ -75,13 +75,15 @@ pub fn follow_chain(
     leaving: u32,
     dir: Vector3<f64>,
 ) -> Option<ChainEnd> {
-    trace_chain::<true>(scene, aperture, origin, leaving, dir, None, None)
+    trace_chain::<true>(scene, aperture, origin, leaving, dir, None, None, None)
 }
 
 /// The interfaces a chain crossed, in order (at most [`MAX_INTERFACES`] + 1).
 #[derive(Clone, Copy, Debug, Default)]
 struct ChainRecord {
     interfaces: [Interface; MAX_INTERFACES + 1],
+    /// The triangle of each interface.
+    triangles: [u32; MAX_INTERFACES + 1],
     len: usize,
 }
 
@@ -104,7 +106,13 @@ struct LandingDifferentials {
 /// `transmittance` is NaN: what the seed trace of a connection and the Newton method's
 /// steps need, without the Stokes vector's frame rotations and Mueller matrices
 /// that only the solved chain's transmittance uses. With `differentials`, the landing's
-/// Jacobian with respect to the launch direction is carried along too.
+/// Jacobian with respect to the launch direction is carried along too. With `hints`, the
+/// triangles of an earlier chain, the ray is taken to cross them in turn without a BVH query
+/// while it meets each well inside (`SceneAccel::hit_on_triangle`, the same hit a query on
+/// that triangle gives), and to reach the aperture plane after the last; from the first one
+/// it misses on, BVH queries take over. A hinted chain is not checked for anything else in
+/// its way: its caller checks the chain it keeps by tracing it without hints.
+#[allow(clippy::too_many_arguments)]
 fn trace_chain<const RADIOMETRY: bool>(
     scene: &TraceScene,
     aperture: &Aperture,
@@ -113,6 +121,7 @@ fn trace_chain<const RADIOMETRY: bool>(
     dir: Vector3<f64>,
     mut record: Option<&mut ChainRecord>,
     mut differentials: Option<&mut LandingDifferentials>,
+    mut hints: Option<&[u32]>,
 ) -> Option<ChainEnd> {
     let (mut o, mut d, mut leaving) = (origin, dir, leaving);
     // (dp, dd) per perturbation: the point's change on the current surface, the direction's.
@@ -122,9 +131,26 @@ fn trace_chain<const RADIOMETRY: bool>(
     let mut stokes = Stokes::unpolarized(&d);
     let mut transmittance = if RADIOMETRY { 1.0 } else { f64::NAN };
     let mut crossed_glass = false;
-    for _ in 0..=MAX_INTERFACES {
+    for k in 0..=MAX_INTERFACES {
         let t_plane = aperture.plane_distance(&o, &d)?;
-        let Some(hit) = scene.accel.closest_hit_leaving(&o, &d, leaving, t_plane) else {
+        let hinted = match hints {
+            Some(h) => match h.get(k) {
+                Some(&tri) => {
+                    let hit = scene.accel.hit_on_triangle(tri, &o, &d, t_plane);
+                    if hit.is_none() {
+                        hints = None;
+                    }
+                    hit.map(Some)
+                }
+                None => Some(None),
+            },
+            None => None,
+        };
+        let hit = match hinted {
+            Some(hit) => hit,
+            None => scene.accel.closest_hit_leaving(&o, &d, leaving, t_plane),
+        };
+        let Some(hit) = hit else {
             if let (Some(df), Some(diff)) = (differentials.as_deref_mut(), &diff) {
                 let den = d.dot(&aperture.axis);
                 for (k, (dp, dd)) in diff.iter().enumerate() {
@@ -163,6 +189,7 @@ fn trace_chain<const RADIOMETRY: bool>(
                 normal: hit.shading_normal,
                 index_before: if entering { 1.0 } else { glass.eta },
             };
+            r.triangles[r.len] = hit.triangle;
             r.len += 1;
         }
         let wt = if RADIOMETRY {
@@ -239,7 +266,7 @@ pub fn solve_connection(
     };
     // Where a launch direction lands, geometry only, and the Jacobian of that landing with
     // respect to the direction (ray differentials along `orthonormal_basis(w)`).
-    let land_at = |w: &Vector3<f64>, record: Option<&mut ChainRecord>| {
+    let land_at = |w: &Vector3<f64>, record: Option<&mut ChainRecord>, hints: Option<&[u32]>| {
         if w.dot(&ng) * side <= 0.0 {
             return None;
         }
@@ -248,8 +275,16 @@ pub fn solve_connection(
             basis: [t1, t2],
             landing: [Vector2::zeros(); 2],
         };
-        let end =
-            trace_chain::<false>(scene, aperture, point, triangle, *w, record, Some(&mut df))?;
+        let end = trace_chain::<false>(
+            scene,
+            aperture,
+            point,
+            triangle,
+            *w,
+            record,
+            Some(&mut df),
+            hints,
+        )?;
         let c = Vector2::from(aperture.plane_coords(&end.landing));
         Some((c, Matrix2::from_columns(&df.landing), t1, t2))
     };
@@ -257,7 +292,7 @@ pub fn solve_connection(
     let seed = seed.normalize();
     let mut record = ChainRecord::default();
     // The seed's landing and Jacobian: Newton's first step when the closed form does not apply.
-    let at_seed = land_at(&seed, Some(&mut record));
+    let at_seed = land_at(&seed, Some(&mut record), None);
     if at_seed.is_some() {
         let crossed = &record.interfaces[..record.len];
         if let Some(sol) = solve_layered(&point, crossed, lens_point, &aperture.axis) {
@@ -272,35 +307,51 @@ pub fn solve_connection(
             }
         }
     }
-    let mut w = seed;
-    let mut at_w = at_seed;
-    for _ in 0..NEWTON_ITERATIONS {
-        let (c0, j, t1, t2) = at_w?;
-        let residual = target - c0;
-        if residual.norm() < LANDING_TOLERANCE_M {
-            let det = j.determinant().abs();
-            if !(det > 0.0 && det.is_finite()) {
-                return None;
+    // Newton's steps follow the seed chain's triangles without BVH queries while they stay
+    // well inside them (the same hits, so the same steps as with queries); the chain it
+    // converges to is traced again with queries, which must land it on the lens point. Should
+    // anything else be in the way, or the steps fail, Newton runs again with a query for
+    // every step.
+    let hints = at_seed.is_some().then_some(&record.triangles[..record.len]);
+    let newton = |hints: Option<&[u32]>| {
+        let mut w = seed;
+        let mut at_w = at_seed;
+        for _ in 0..NEWTON_ITERATIONS {
+            let (c0, j, t1, t2) = at_w?;
+            let residual = target - c0;
+            if residual.norm() < LANDING_TOLERANCE_M {
+                let det = j.determinant().abs();
+                if !(det > 0.0 && det.is_finite()) {
+                    return None;
+                }
+                // The same chain again, with its Fresnel transmission and absorption, and
+                // with every BVH query.
+                let (c, end) = land(&w)?;
+                if (target - c).norm() >= LANDING_TOLERANCE_M {
+                    return None;
+                }
+                return Some(Connection {
+                    dir: w,
+                    dw_da: 1.0 / det,
+                    end,
+                });
             }
-            // The same chain again, now with its Fresnel transmission and absorption.
-            let (_, end) = land(&w)?;
-            return Some(Connection {
-                dir: w,
-                dw_da: 1.0 / det,
-                end,
-            });
+            let step = j.try_inverse()? * residual;
+            // Keep steps inside the region where the chain is close to linear.
+            let step = if step.norm() > 0.05 {
+                step * (0.05 / step.norm())
+            } else {
+                step
+            };
+            w = (w + t1 * step.x + t2 * step.y).normalize();
+            at_w = land_at(&w, None, hints);
         }
-        let step = j.try_inverse()? * residual;
-        // Keep steps inside the region where the chain is close to linear.
-        let step = if step.norm() > 0.05 {
-            step * (0.05 / step.norm())
-        } else {
-            step
-        };
-        w = (w + t1 * step.x + t2 * step.y).normalize();
-        at_w = land_at(&w, None);
+        None
+    };
+    match hints {
+        Some(h) => newton(Some(h)).or_else(|| newton(None)),
+        None => newton(None),
     }
-    None
 }
 
 /// The connection from `vertex` to `lens_point` through the flat slab whose face the straight
@@ -482,23 +533,25 @@ mod tests {
         );
     }
 
-    #[test]
-    fn the_landing_jacobian_of_ray_differentials_is_the_finite_differences_one_on_a_curved_pane() {
-        // Table points seen through the car window (bent, smooth-shaded): the Jacobian the
-        // chain carries equals central differences of where the chain lands (h = 1e-6 rad,
-        // truncation ~h² of the Jacobian): measured 5e-12 to 3e-10 relative on 213 chains;
-        // without the shading normal's change it is 8e-4 off, so the test sees the curvature.
+    /// The car window over its table: the scene, the sensor and its first scan pose.
+    fn car_window() -> (TraceScene, SensorHead, crate::scan::poses::ScanPose) {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
         let world = crate::scene::load(&root.join("scenes/car_side_window.toml")).unwrap();
         let head = SensorHead::new(&world.sensor).unwrap();
         let border = world.true_border_in_base().unwrap();
         let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
-        let scene = TraceScene::new(&world).unwrap();
-        let aperture = Aperture::new(&head.camera, &pose.sensor);
-        let coords = |end: &ChainEnd| Vector2::from(aperture.plane_coords(&end.landing));
-        let mut compared = 0;
+        (TraceScene::new(&world).unwrap(), head, pose)
+    }
+
+    /// Opaque points seen through the glass from the aperture's centre, on straight lines past
+    /// p_e on a 20 × 20 grid 60 mm wide: where chains through the bent pane start.
+    fn points_behind_the_glass(
+        scene: &TraceScene,
+        aperture: &Aperture,
+        pose: &crate::scan::poses::ScanPose,
+    ) -> Vec<Hit> {
+        let mut out = Vec::new();
         for k in 0..400 {
-            // Straight lines from the aperture's centre past p_e, on a 20 × 20 grid 60 mm wide.
             let aim = pose.edge_point
                 + Vector3::new((k % 20) as f64 - 9.5, (k / 20) as f64 - 9.5, 0.0) * 3e-3;
             let dir = (aim - aperture.center).normalize();
@@ -519,9 +572,24 @@ mod tests {
                     None => break,
                 }
             }
-            if scene.glass(hit.material).is_some() {
-                continue;
+            if scene.glass(hit.material).is_none() {
+                out.push(hit);
             }
+        }
+        out
+    }
+
+    #[test]
+    fn the_landing_jacobian_of_ray_differentials_is_the_finite_differences_one_on_a_curved_pane() {
+        // Table points seen through the car window (bent, smooth-shaded): the Jacobian the
+        // chain carries equals central differences of where the chain lands (h = 1e-6 rad,
+        // truncation ~h² of the Jacobian): measured 5e-12 to 3e-10 relative on 213 chains;
+        // without the shading normal's change it is 8e-4 off, so the test sees the curvature.
+        let (scene, head, pose) = car_window();
+        let aperture = Aperture::new(&head.camera, &pose.sensor);
+        let coords = |end: &ChainEnd| Vector2::from(aperture.plane_coords(&end.landing));
+        let mut compared = 0;
+        for hit in points_behind_the_glass(&scene, &aperture, &pose) {
             let w = (aperture.center - hit.point).normalize();
             let (t1, t2) = orthonormal_basis(&w);
             let mut df = LandingDifferentials {
@@ -529,7 +597,16 @@ mod tests {
                 landing: [Vector2::zeros(); 2],
             };
             let trace = |w: Vector3<f64>, df: Option<&mut LandingDifferentials>| {
-                trace_chain::<false>(&scene, &aperture, hit.point, hit.triangle, w, None, df)
+                trace_chain::<false>(
+                    &scene,
+                    &aperture,
+                    hit.point,
+                    hit.triangle,
+                    w,
+                    None,
+                    df,
+                    None,
+                )
             };
             let Some(end) = trace(w, Some(&mut df)) else {
                 continue;
@@ -563,6 +640,67 @@ mod tests {
             compared += 1;
         }
         assert!(compared > 50, "only {compared} chains through the window");
+    }
+
+    #[test]
+    fn a_chain_along_hinted_triangles_is_the_chain_bvh_queries_give() {
+        // Chains through the car window from points behind it, turned by 1e-6 to 3e-2 rad as
+        // Newton's steps turn them: traced along the first chain's triangles, each gives the
+        // same end, landing Jacobian and interfaces, bit for bit, as with a BVH query per
+        // interface, both where it stays on those triangles and where it leaves them and the
+        // queries take over.
+        let (scene, head, pose) = car_window();
+        let aperture = Aperture::new(&head.camera, &pose.sensor);
+        let (mut on_hints, mut left_hints) = (0, 0);
+        for hit in points_behind_the_glass(&scene, &aperture, &pose) {
+            let w = (aperture.center - hit.point).normalize();
+            let mut seed = ChainRecord::default();
+            let trace = |w: Vector3<f64>, record: &mut ChainRecord, hints: Option<&[u32]>| {
+                let (t1, t2) = orthonormal_basis(&w);
+                let mut df = LandingDifferentials {
+                    basis: [t1, t2],
+                    landing: [Vector2::zeros(); 2],
+                };
+                let end = trace_chain::<false>(
+                    &scene,
+                    &aperture,
+                    hit.point,
+                    hit.triangle,
+                    w,
+                    Some(record),
+                    Some(&mut df),
+                    hints,
+                );
+                end.map(|e| (e.landing, e.dir, e.crossed_glass, df.landing))
+            };
+            if trace(w, &mut seed, None).is_none() || seed.len == 0 {
+                continue;
+            }
+            let hints = &seed.triangles[..seed.len];
+            let (t1, t2) = orthonormal_basis(&w);
+            for (j, turn) in [1e-6, 1e-4, 3e-3, 3e-2].iter().enumerate() {
+                let a = std::f64::consts::TAU * (j as f64 / 4.0 + 0.1);
+                let turned = (w + (t1 * a.cos() + t2 * a.sin()) * *turn).normalize();
+                let (mut queried, mut hinted) = (ChainRecord::default(), ChainRecord::default());
+                let by_queries = trace(turned, &mut queried, None);
+                let along_hints = trace(turned, &mut hinted, Some(hints));
+                assert_eq!(by_queries, along_hints, "turned by {turn}");
+                assert_eq!(
+                    queried.triangles[..queried.len],
+                    hinted.triangles[..hinted.len]
+                );
+                if queried.triangles[..queried.len] == *hints {
+                    on_hints += 1;
+                } else {
+                    left_hints += 1;
+                }
+            }
+        }
+        eprintln!("{on_hints} chains on the hinted triangles, {left_hints} off them");
+        assert!(
+            on_hints > 300 && left_hints > 20,
+            "{on_hints} chains on the hinted triangles, {left_hints} off them"
+        );
     }
 
     #[test]

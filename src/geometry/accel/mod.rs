@@ -61,7 +61,7 @@ pub struct SceneTriangle {
 }
 
 /// A ray–scene intersection.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
     /// Distance along the (unit) ray direction (m).
     pub t: f64,
@@ -134,6 +134,13 @@ impl ExactTriangle {
             det: d00 * d11 - d01 * d01,
         }
     }
+
+    /// Whether a ray along `dir` meets the triangle's plane steeply enough for the hit to be
+    /// recomputed in f64 (Möller–Trumbore's denominator against the triangle's size); grazing
+    /// rays keep the f32 test's values.
+    fn completes_in_f64(&self, dir: &Vector3<f64>) -> bool {
+        dir.dot(&self.cross).abs() > 1e-12 * self.cross_norm
+    }
 }
 
 /// BVH units per metre (see the module documentation).
@@ -148,6 +155,11 @@ pub const NEAR_HIT_M: f64 = 1e-5;
 /// far above f64 rounding of hit points (~1e-16 m) and far below any gap in a scene (the shipped
 /// scenes keep 10 µm between objects). A ray's line is never moved; it only skips this much.
 pub const SELF_HIT_T_MIN_M: f64 = 1e-8;
+
+/// The least barycentric coordinate of a hit that [`SceneAccel::hit_on_triangle`] accepts: f32
+/// resolves about 1e-7 of a triangle, so the traversal's f32 test takes such a hit for this
+/// triangle too (not its neighbour across an edge).
+pub const INTERIOR_MARGIN: f64 = 1e-5;
 
 /// A point in BVH units (f32 mm).
 fn to_bvh(p: &Point3<f64>) -> [f32; 3] {
@@ -282,6 +294,28 @@ impl SceneAccel {
         q.found().map(|f| self.make_bvh_hit(f, &ray, origin, dir))
     }
 
+    /// The hit of a ray on triangle `tri` alone, completed in f64 exactly as a BVH query's hit
+    /// on that triangle is, when the ray meets it well inside (each barycentric coordinate at
+    /// least [`INTERIOR_MARGIN`], where the f32 test of the traversal cannot disagree) at t in
+    /// [`NEAR_HIT_M`], `t_max`], and not grazing. Nothing is said about other triangles in the
+    /// way: for following a chain of triangles a BVH query found, with the chain checked by
+    /// BVH queries afterwards (`transport::connect`).
+    pub fn hit_on_triangle(
+        &self,
+        tri: u32,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        t_max: f64,
+    ) -> Option<Hit> {
+        if !self.exact[tri as usize].completes_in_f64(dir) {
+            return None;
+        }
+        let hit = self.make_hit(tri, origin, dir, || (f64::NAN, f32::NAN, f32::NAN));
+        let [u, v] = hit.barycentric;
+        let inside = u >= INTERIOR_MARGIN && v >= INTERIOR_MARGIN && 1.0 - u - v >= INTERIOR_MARGIN;
+        (inside && hit.t >= NEAR_HIT_M && hit.t <= t_max).then_some(hit)
+    }
+
     /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max) (`dir` unit length).
     pub fn occluded(
         &self,
@@ -379,8 +413,8 @@ impl SceneAccel {
         let st = &self.input[tri as usize];
         let x = &self.exact[tri as usize];
         let geometric_normal = x.normal;
-        let denom = dir.dot(&x.cross);
-        let (t, u, v) = if denom.abs() > 1e-12 * x.cross_norm {
+        let (t, u, v) = if x.completes_in_f64(dir) {
+            let denom = dir.dot(&x.cross);
             // Möller–Trumbore in f64 on the same triangle.
             let t = (x.a - origin).dot(&x.cross) / denom;
             let p = origin + dir * t;
@@ -610,6 +644,76 @@ mod tests {
             }
         }
         assert!(compared > 2000, "only {compared} hits");
+    }
+
+    /// `hit_on_triangle` gives the very hit a BVH query gives on that triangle (every field,
+    /// bit for bit) when the ray meets it well inside, and nothing near its edges, behind
+    /// `t_max` or on another triangle.
+    #[test]
+    fn a_hit_on_a_named_triangle_is_the_bvh_query_s_hit() {
+        let n = 16;
+        let h = |i: usize, j: usize| {
+            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
+            Point3::new(x, y, 0.01 * (9.0 * x).sin() * (7.0 * y).cos())
+        };
+        let mut tris = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (h(i, j), h(i + 1, j), h(i + 1, j + 1), h(i, j + 1));
+                tris.push(tri(a.into(), b.into(), c.into(), 0));
+                tris.push(tri(a.into(), c.into(), d.into(), 0));
+            }
+        }
+        let accel = SceneAccel::build(tris);
+        let (mut same, mut declined) = (0, 0);
+        for k in 0..4000u64 {
+            let g = |d: u64| {
+                let mut x = (k * 8 + d).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+                x ^= x >> 29;
+                x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                x ^= x >> 32;
+                (x >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let origin = Point3::new(g(0) - 0.5, g(1) - 0.5, 0.3);
+            let dir = Vector3::new(0.2 * (g(2) - 0.5), 0.2 * (g(3) - 0.5), -1.0).normalize();
+            let Some(query) = accel.closest_hit(&origin, &dir, 0.0, 2.0) else {
+                continue;
+            };
+            match accel.hit_on_triangle(query.triangle, &origin, &dir, 2.0) {
+                Some(hit) => {
+                    assert_eq!(hit, query, "ray {k}");
+                    same += 1;
+                }
+                None => {
+                    let [u, v] = query.barycentric;
+                    assert!(
+                        u.min(v).min(1.0 - u - v) < INTERIOR_MARGIN,
+                        "ray {k}: {query:?}"
+                    );
+                    declined += 1;
+                }
+            }
+            // Another triangle, and this one beyond t_max, give nothing.
+            let other = (query.triangle + 1) % accel.triangle_count() as u32;
+            assert!(accel.hit_on_triangle(other, &origin, &dir, 2.0).is_none());
+            assert!(accel
+                .hit_on_triangle(query.triangle, &origin, &dir, 0.5 * query.t)
+                .is_none());
+        }
+        assert!(same > 3800, "{same} equal hits, {declined} declined");
+        // Rays down onto the middle of a triangle's edge: declined, whichever side the query
+        // takes.
+        for t in (0..accel.triangle_count()).step_by(7) {
+            let [a, b, _] = accel.input[t].vertices;
+            let origin = Point3::from((a.coords + b.coords) * 0.5) + Vector3::new(0.0, 0.0, 0.3);
+            let dir = -Vector3::z();
+            let query = accel
+                .closest_hit(&origin, &dir, 0.0, 2.0)
+                .expect("the field is below");
+            assert!(accel
+                .hit_on_triangle(query.triangle, &origin, &dir, 2.0)
+                .is_none());
+        }
     }
 
     #[test]
