@@ -565,12 +565,9 @@ mod tests {
         best
     }
 
-    /// Rays leaving a height field (shared edges and vertices, neighbours at t ≈ 0) from exact
-    /// points on its triangles, at its vertices and edges included, in every direction: the
-    /// BVH chooses what brute force chooses, with every node test.
-    #[test]
-    fn leaving_rays_match_brute_force() {
-        let n = 24;
+    /// A wavy height field of n × n quads, two triangles each, over [−0.5, 0.5]² (m): shared
+    /// edges and vertices everywhere.
+    fn height_field(n: usize) -> Vec<SceneTriangle> {
         let h = |i: usize, j: usize| {
             let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
             Point3::new(x, y, 0.01 * (9.0 * x).sin() * (7.0 * y).cos())
@@ -583,6 +580,24 @@ mod tests {
                 tris.push(tri(a.into(), c.into(), d.into(), 0));
             }
         }
+        tris
+    }
+
+    /// A uniform number in [0, 1) hashed from `k` (SplitMix64's finaliser).
+    fn hash_uniform(k: u64) -> f64 {
+        let mut x = k.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        x ^= x >> 29;
+        x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        x ^= x >> 32;
+        (x >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Rays leaving a height field (shared edges and vertices, neighbours at t ≈ 0) from exact
+    /// points on its triangles, at its vertices and edges included, in every direction: the
+    /// BVH chooses what brute force chooses, with every node test.
+    #[test]
+    fn leaving_rays_match_brute_force() {
+        let mut tris = height_field(24);
         // A second sheet 3 µm above the first, so that rays meet it within NEAR_HIT_M.
         let lifted: Vec<SceneTriangle> = tris
             .iter()
@@ -600,13 +615,7 @@ mod tests {
         for simd in Simd::available() {
             accel.simd = simd;
             for k in 0..3000u64 {
-                let g = |d: u64| {
-                    let mut x = (k * 8 + d).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-                    x ^= x >> 29;
-                    x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-                    x ^= x >> 32;
-                    (x >> 11) as f64 / (1u64 << 53) as f64
-                };
+                let g = |d: u64| hash_uniform(k * 8 + d);
                 let leaving = ((g(0) * count as f64) as u32).min(count as u32 - 1);
                 let [a, b, c] = accel.input[leaving as usize].vertices;
                 // Vertices, edge midpoints and interior points.
@@ -651,29 +660,10 @@ mod tests {
     /// `t_max` or on another triangle.
     #[test]
     fn a_hit_on_a_named_triangle_is_the_bvh_query_s_hit() {
-        let n = 16;
-        let h = |i: usize, j: usize| {
-            let (x, y) = (i as f64 / n as f64 - 0.5, j as f64 / n as f64 - 0.5);
-            Point3::new(x, y, 0.01 * (9.0 * x).sin() * (7.0 * y).cos())
-        };
-        let mut tris = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                let (a, b, c, d) = (h(i, j), h(i + 1, j), h(i + 1, j + 1), h(i, j + 1));
-                tris.push(tri(a.into(), b.into(), c.into(), 0));
-                tris.push(tri(a.into(), c.into(), d.into(), 0));
-            }
-        }
-        let accel = SceneAccel::build(tris);
+        let accel = SceneAccel::build(height_field(16));
         let (mut same, mut declined) = (0, 0);
         for k in 0..4000u64 {
-            let g = |d: u64| {
-                let mut x = (k * 8 + d).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-                x ^= x >> 29;
-                x = x.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-                x ^= x >> 32;
-                (x >> 11) as f64 / (1u64 << 53) as f64
-            };
+            let g = |d: u64| hash_uniform(k * 8 + d);
             let origin = Point3::new(g(0) - 0.5, g(1) - 0.5, 0.3);
             let dir = Vector3::new(0.2 * (g(2) - 0.5), 0.2 * (g(3) - 0.5), -1.0).normalize();
             let Some(query) = accel.closest_hit(&origin, &dir, 0.0, 2.0) else {
