@@ -78,6 +78,17 @@ pub fn follow_chain(
     trace_chain::<true>(scene, aperture, origin, leaving, dir, None, None, None)
 }
 
+/// Triangles a chain is expected to cross (`trace_chain`).
+#[derive(Clone, Copy, Debug)]
+struct Hints<'a> {
+    /// The triangles, in the order the chain meets them.
+    triangles: &'a [u32],
+    /// After the last one the chain reaches the aperture plane without a query (the triangles
+    /// of a whole earlier chain), or queries find the rest (the first hit of a ray already
+    /// queried).
+    complete: bool,
+}
+
 /// The interfaces a chain crossed, in order (at most [`MAX_INTERFACES`] + 1).
 #[derive(Clone, Copy, Debug, Default)]
 struct ChainRecord {
@@ -106,12 +117,11 @@ struct LandingDifferentials {
 /// `transmittance` is NaN: what the seed trace of a connection and the Newton method's
 /// steps need, without the Stokes vector's frame rotations and Mueller matrices
 /// that only the solved chain's transmittance uses. With `differentials`, the landing's
-/// Jacobian with respect to the launch direction is carried along too. With `hints`, the
-/// triangles of an earlier chain, the ray is taken to cross them in turn without a BVH query
-/// while it meets each well inside (`SceneAccel::hit_on_triangle`, the same hit a query on
-/// that triangle gives), and to reach the aperture plane after the last; from the first one
-/// it misses on, BVH queries take over. A hinted chain is not checked for anything else in
-/// its way: its caller checks the chain it keeps by tracing it without hints.
+/// Jacobian with respect to the launch direction is carried along too. With `hints`, the ray
+/// is taken to cross their triangles in turn without a BVH query while it meets each well
+/// inside (`SceneAccel::hit_on_triangle`, the same hit a query on that triangle gives); from
+/// the first one it misses on, BVH queries take over. A hinted chain is not checked for
+/// anything else in its way: its caller checks the chain it keeps by tracing it with queries.
 #[allow(clippy::too_many_arguments)]
 fn trace_chain<const RADIOMETRY: bool>(
     scene: &TraceScene,
@@ -121,7 +131,7 @@ fn trace_chain<const RADIOMETRY: bool>(
     dir: Vector3<f64>,
     mut record: Option<&mut ChainRecord>,
     mut differentials: Option<&mut LandingDifferentials>,
-    mut hints: Option<&[u32]>,
+    mut hints: Option<Hints>,
 ) -> Option<ChainEnd> {
     let (mut o, mut d, mut leaving) = (origin, dir, leaving);
     // (dp, dd) per perturbation: the point's change on the current surface, the direction's.
@@ -134,7 +144,7 @@ fn trace_chain<const RADIOMETRY: bool>(
     for k in 0..=MAX_INTERFACES {
         let t_plane = aperture.plane_distance(&o, &d)?;
         let hinted = match hints {
-            Some(h) => match h.get(k) {
+            Some(h) => match h.triangles.get(k) {
                 Some(&tri) => {
                     let hit = scene.accel.hit_on_triangle(tri, &o, &d, t_plane);
                     if hit.is_none() {
@@ -142,7 +152,8 @@ fn trace_chain<const RADIOMETRY: bool>(
                     }
                     hit.map(Some)
                 }
-                None => Some(None),
+                None if h.complete => Some(None),
+                None => None,
             },
             None => None,
         };
@@ -243,12 +254,15 @@ fn trace_chain<const RADIOMETRY: bool>(
 
 /// Solves for the launch direction from `x` (on triangle `leaving`) whose chain lands on
 /// `lens_point`, starting from `seed`. The launch side (the sign of ω·ng) is kept fixed.
+/// `first_hit`: the triangle a query from the vertex along `seed` met first, if the caller
+/// has made that query (the seed chain then starts there without repeating it).
 pub fn solve_connection(
     scene: &TraceScene,
     aperture: &Aperture,
     vertex: &VertexOnSurface,
     lens_point: &Point3<f64>,
     seed: Vector3<f64>,
+    first_hit: Option<u32>,
 ) -> Option<Connection> {
     let VertexOnSurface {
         point,
@@ -266,7 +280,7 @@ pub fn solve_connection(
     };
     // Where a launch direction lands, geometry only, and the Jacobian of that landing with
     // respect to the direction (ray differentials along `orthonormal_basis(w)`).
-    let land_at = |w: &Vector3<f64>, record: Option<&mut ChainRecord>, hints: Option<&[u32]>| {
+    let land_at = |w: &Vector3<f64>, record: Option<&mut ChainRecord>, hints: Option<Hints>| {
         if w.dot(&ng) * side <= 0.0 {
             return None;
         }
@@ -292,7 +306,12 @@ pub fn solve_connection(
     let seed = seed.normalize();
     let mut record = ChainRecord::default();
     // The seed's landing and Jacobian: Newton's first step when the closed form does not apply.
-    let at_seed = land_at(&seed, Some(&mut record), None);
+    let first = first_hit.map(|t| [t]);
+    let seed_hints = first.as_ref().map(|t| Hints {
+        triangles: t,
+        complete: false,
+    });
+    let at_seed = land_at(&seed, Some(&mut record), seed_hints);
     if at_seed.is_some() {
         let crossed = &record.interfaces[..record.len];
         if let Some(sol) = solve_layered(&point, crossed, lens_point, &aperture.axis) {
@@ -312,8 +331,11 @@ pub fn solve_connection(
     // converges to is traced again with queries, which must land it on the lens point. Should
     // anything else be in the way, or the steps fail, Newton runs again with a query for
     // every step.
-    let hints = at_seed.is_some().then_some(&record.triangles[..record.len]);
-    let newton = |hints: Option<&[u32]>| {
+    let hints = at_seed.is_some().then_some(Hints {
+        triangles: &record.triangles[..record.len],
+        complete: true,
+    });
+    let newton = |hints: Option<Hints>| {
         let mut w = seed;
         let mut at_w = at_seed;
         for _ in 0..NEWTON_ITERATIONS {
@@ -472,15 +494,16 @@ pub fn connect(
         }
         Some(hit) if scene.glass(hit.material).is_some() => {
             if may_land_once() {
-                out[0] = through_slab(scene, aperture, vertex, lens_point, &hit)
-                    .or_else(|| solve_connection(scene, aperture, vertex, lens_point, s));
+                out[0] = through_slab(scene, aperture, vertex, lens_point, &hit).or_else(|| {
+                    solve_connection(scene, aperture, vertex, lens_point, s, Some(hit.triangle))
+                });
             }
         }
         Some(_) => {}
     }
     if on_glass && may_land_once() {
         let mirrored = s - ng * (2.0 * s.dot(ng));
-        if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored) {
+        if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored, None) {
             if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
                 out[1] = Some(c);
             }
@@ -655,7 +678,7 @@ mod tests {
         for hit in points_behind_the_glass(&scene, &aperture, &pose) {
             let w = (aperture.center - hit.point).normalize();
             let mut seed = ChainRecord::default();
-            let trace = |w: Vector3<f64>, record: &mut ChainRecord, hints: Option<&[u32]>| {
+            let trace = |w: Vector3<f64>, record: &mut ChainRecord, hints: Option<Hints>| {
                 let (t1, t2) = orthonormal_basis(&w);
                 let mut df = LandingDifferentials {
                     basis: [t1, t2],
@@ -683,8 +706,27 @@ mod tests {
                 let turned = (w + (t1 * a.cos() + t2 * a.sin()) * *turn).normalize();
                 let (mut queried, mut hinted) = (ChainRecord::default(), ChainRecord::default());
                 let by_queries = trace(turned, &mut queried, None);
-                let along_hints = trace(turned, &mut hinted, Some(hints));
+                let along_hints = trace(
+                    turned,
+                    &mut hinted,
+                    Some(Hints {
+                        triangles: hints,
+                        complete: true,
+                    }),
+                );
                 assert_eq!(by_queries, along_hints, "turned by {turn}");
+                // Only the first triangle given, queries for the rest (a connection's seed
+                // chain after the straight query): the same chain.
+                let mut started = ChainRecord::default();
+                let from_first = trace(
+                    turned,
+                    &mut started,
+                    Some(Hints {
+                        triangles: &hints[..1],
+                        complete: false,
+                    }),
+                );
+                assert_eq!(by_queries, from_first, "turned by {turn}, first hinted");
                 assert_eq!(
                     queried.triangles[..queried.len],
                     hinted.triangles[..hinted.len]
@@ -744,7 +786,7 @@ mod tests {
             };
             let (Some(fast), Some(general)) = (
                 through_slab(&scene, &aperture, &vertex, &lens_point, &entry),
-                solve_connection(&scene, &aperture, &vertex, &lens_point, s),
+                solve_connection(&scene, &aperture, &vertex, &lens_point, s, None),
             ) else {
                 continue;
             };
