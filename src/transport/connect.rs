@@ -141,25 +141,21 @@ fn trace_chain<const RADIOMETRY: bool>(
     let mut stokes = Stokes::unpolarized(&d);
     let mut transmittance = if RADIOMETRY { 1.0 } else { f64::NAN };
     let mut crossed_glass = false;
-    for k in 0..=MAX_INTERFACES {
+    for interface in 0..=MAX_INTERFACES {
         let t_plane = aperture.plane_distance(&o, &d)?;
-        let hinted = match hints {
-            Some(h) => match h.triangles.get(k) {
-                Some(&tri) => {
-                    let hit = scene.accel.hit_on_triangle(tri, &o, &d, t_plane);
-                    if hit.is_none() {
+        let query = || scene.accel.closest_hit_leaving(&o, &d, leaving, t_plane);
+        let hit = match hints.map(|h| (h.triangles.get(interface), h.complete)) {
+            Some((Some(&tri), _)) => {
+                scene
+                    .accel
+                    .hit_on_triangle(tri, &o, &d, t_plane)
+                    .or_else(|| {
                         hints = None;
-                    }
-                    hit.map(Some)
-                }
-                None if h.complete => Some(None),
-                None => None,
-            },
-            None => None,
-        };
-        let hit = match hinted {
-            Some(hit) => hit,
-            None => scene.accel.closest_hit_leaving(&o, &d, leaving, t_plane),
+                        query()
+                    })
+            }
+            Some((None, true)) => None,
+            _ => query(),
         };
         let Some(hit) = hit else {
             if let (Some(df), Some(diff)) = (differentials.as_deref_mut(), &diff) {
@@ -522,14 +518,19 @@ mod tests {
     use crate::sensor::SensorHead;
     use std::path::Path;
 
-    /// The edge-study pane on its table: the scene, the sensor and its first scan pose.
-    fn edge_study() -> (TraceScene, SensorHead, crate::scan::poses::ScanPose) {
+    /// A shipped scene (`scenes/<file>`): the scene, the sensor and its first scan pose.
+    fn first_pose_of(file: &str) -> (TraceScene, SensorHead, crate::scan::poses::ScanPose) {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let world = crate::scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
+        let world = crate::scene::load(&root.join("scenes").join(file)).unwrap();
         let head = SensorHead::new(&world.sensor).unwrap();
         let border = world.true_border_in_base().unwrap();
         let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
         (TraceScene::new(&world).unwrap(), head, pose)
+    }
+
+    /// The edge-study pane on its table.
+    fn edge_study() -> (TraceScene, SensorHead, crate::scan::poses::ScanPose) {
+        first_pose_of("edge_study_bare.toml")
     }
 
     #[test]
@@ -556,14 +557,9 @@ mod tests {
         );
     }
 
-    /// The car window over its table: the scene, the sensor and its first scan pose.
+    /// The car window over its table.
     fn car_window() -> (TraceScene, SensorHead, crate::scan::poses::ScanPose) {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let world = crate::scene::load(&root.join("scenes/car_side_window.toml")).unwrap();
-        let head = SensorHead::new(&world.sensor).unwrap();
-        let border = world.true_border_in_base().unwrap();
-        let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
-        (TraceScene::new(&world).unwrap(), head, pose)
+        first_pose_of("car_side_window.toml")
     }
 
     /// Opaque points seen through the glass from the aperture's centre, on straight lines past
