@@ -42,6 +42,7 @@ fn bench(c: &mut Criterion) {
     ] {
         let settings = TraceSettings {
             photons,
+            adaptive: false,
             max_depth: 64,
             seed: 1,
         };

@@ -40,6 +40,7 @@ fn traced_pose(name: &str, photons: u64) -> (SensorHead, ScanPose, Irradiance) {
     let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
     let settings = TraceSettings {
         photons,
+        adaptive: false,
         max_depth: 64,
         seed: 1,
     };

@@ -38,6 +38,7 @@ fn first_pose(
 fn bench(c: &mut Criterion) {
     let settings = TraceSettings {
         photons: 1 << 20,
+        adaptive: false,
         max_depth: 64,
         seed: 1,
     };

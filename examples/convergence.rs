@@ -18,7 +18,7 @@ use glassscan::scan::poses::plan_border_scan;
 use glassscan::scene;
 use glassscan::sensor::SensorHead;
 use glassscan::study::convergence::{judge, sample_profiles, ProfileSample};
-use glassscan::transport::TraceScene;
+use glassscan::transport::{TraceScene, DEFAULT_PHOTONS};
 use serde_json::json;
 
 const POSES: usize = 16;
@@ -34,8 +34,12 @@ fn main() {
         eprintln!("usage: convergence SCENE SCAN_ANGLE_DEG OUT_DIR [PHOTONS,…]");
         std::process::exit(2);
     };
+    // A count, or `auto` for the adaptive count up to the default (0 in the table).
     let photon_counts: Vec<u64> = match args.get(3) {
-        Some(list) => list.split(',').map(|s| s.parse().unwrap()).collect(),
+        Some(list) => list
+            .split(',')
+            .map(|s| if s == "auto" { 0 } else { s.parse().unwrap() })
+            .collect(),
         None => vec![1 << 14, 1 << 16, 1 << 18, 1 << 20],
     };
     let out = PathBuf::from(out);
@@ -54,7 +58,11 @@ fn main() {
 
     let run = |seeds: &[u64], photons: u64| {
         let t = Instant::now();
-        let s = sample_profiles(&trace, &head, &poses, seeds, photons, MAX_DEPTH);
+        let budget = match photons {
+            0 => (DEFAULT_PHOTONS, true),
+            n => (n, false),
+        };
+        let s = sample_profiles(&trace, &head, &poses, seeds, budget, MAX_DEPTH);
         let per_profile = t.elapsed().as_secs_f64() / s.len() as f64;
         (s, per_profile)
     };
@@ -79,9 +87,15 @@ fn main() {
         let (independent, t_ind) = run(&SEEDS_C, n);
         let v = judge(&reference, &reference_other, &same, &independent);
         let s_per_profile = 0.5 * (t_same + t_ind);
+        let traced: Vec<u64> = same.iter().chain(&independent).map(|s| s.photons).collect();
+        let mean_photons = traced.iter().sum::<u64>() as f64 / traced.len() as f64;
+        let label = match n {
+            0 => format!("auto ({:.2})", mean_photons.log2()),
+            n => format!("2^{}", n.trailing_zeros()),
+        };
         println!(
-            "2^{:<5} {:6.3} {:6.3} {:13.3} {:10.2} {:13.2} {:>10} {:10.3}",
-            n.trailing_zeros(),
+            "{:<7} {:6.3} {:6.3} {:13.3} {:10.2} {:13.2} {:>10} {:10.3}",
+            label,
             v.ks_statistic,
             v.ks_p_value,
             v.bip_match_fraction,
@@ -94,6 +108,8 @@ fn main() {
             "photons": n,
             "verdict": v,
             "wall_s_per_profile": s_per_profile,
+            "mean_photons": mean_photons,
+            "photons_traced": traced,
             "bip_error_mm": independent.iter().map(|s| s.bip_error_mm).collect::<Vec<_>>(),
             "same_seed_bip_shift_mm": reference.iter().zip(&same).map(|(a, b)| bip_shift_mm(a, b)).collect::<Vec<_>>(),
         }));
@@ -106,13 +122,36 @@ fn main() {
         "seeds": {"reference": SEEDS_A, "reference_other": SEEDS_B, "independent": SEEDS_C},
         "reference_bip_error_mm": reference.iter().map(|s| s.bip_error_mm).collect::<Vec<_>>(),
         "threads": rayon::current_num_threads(),
-        "rows": rows,
+        "rows": merged_rows(&out.join("summary.json"), rows),
     });
     std::fs::write(
         out.join("summary.json"),
         serde_json::to_string_pretty(&summary).unwrap(),
     )
     .unwrap();
+}
+
+/// The rows of an earlier summary in `path` (if any) with this run's rows in place of those of
+/// the same photon count (0: adaptive), in photon-count order, the adaptive row last: a run
+/// of a few counts adds to the table instead of replacing it.
+fn merged_rows(path: &std::path::Path, new: Vec<serde_json::Value>) -> Vec<serde_json::Value> {
+    let key = |r: &serde_json::Value| match r["photons"].as_u64() {
+        Some(0) | None => u64::MAX,
+        Some(n) => n,
+    };
+    let earlier: Vec<serde_json::Value> = std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v["rows"].as_array().cloned())
+        .unwrap_or_default();
+    let replaced: Vec<u64> = new.iter().map(key).collect();
+    let mut rows: Vec<serde_json::Value> = earlier
+        .into_iter()
+        .filter(|r| !replaced.contains(&key(r)))
+        .chain(new)
+        .collect();
+    rows.sort_by_key(key);
+    rows
 }
 
 /// How far the BIP of one (pose, seed) moved from the reference's (mm); `None` when either

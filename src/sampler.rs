@@ -57,11 +57,14 @@ impl PoseSampler {
     }
 
     /// Four well-spread uniforms for `photon`: the Kronecker lattice point number `photon`, shifted
-    /// by a per-pose random offset (Cranley–Patterson rotation keeps each dimension uniform).
-    pub fn lattice4(&self, photon: u64) -> [f64; 4] {
+    /// by a random offset per pose and `set` (Cranley–Patterson rotation keeps each dimension
+    /// uniform). The photon sets of one pose (`transport::trace::PhotonSets`) number their
+    /// photons from 0 each and take independent shifts.
+    pub fn lattice4(&self, photon: u64, set: u32) -> [f64; 4] {
+        let set_key = (set as u64).wrapping_mul(0xD1B5_4A32_D192_ED03);
         let mut out = [0.0; 4];
         for (j, o) in out.iter_mut().enumerate() {
-            let shift = unit(mix64(self.key ^ (0xA5A5_0000 + j as u64)));
+            let shift = unit(mix64(self.key ^ (0xA5A5_0000 + j as u64) ^ set_key));
             // (photon · α) mod 1, computed without losing the fraction for large photon counts.
             let step = ((photon % (1 << 40)) as f64 * LATTICE_STEPS[j]).fract();
             *o = (shift + step).fract();
@@ -111,7 +114,7 @@ mod tests {
         for j in 0..4 {
             let mut bins = [0usize; 10];
             for i in 5000..6000 {
-                bins[(s.lattice4(i)[j] * 10.0) as usize] += 1;
+                bins[(s.lattice4(i, 0)[j] * 10.0) as usize] += 1;
             }
             assert!(
                 bins.iter().all(|&b| (90..=110).contains(&b)),

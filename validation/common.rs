@@ -99,6 +99,7 @@ pub fn simulate(world: &World, photons: u64, seed: u64) -> PoseResult {
         &identity_pose(),
         &TraceSettings {
             photons,
+            adaptive: false,
             max_depth: 16,
             seed,
         },

@@ -1,7 +1,8 @@
 //! The convergence test (issue 11; `glassscan::study::convergence` states it): the default
 //! photon count of every command (`transport::DEFAULT_PHOTONS`) must give profiles that cannot
 //! be told from a 2^22-photon reference on the shipped glass scenes, and a photon count known
-//! to be too low (2^14) must fail, so the test has the power to see a difference. Slow tier
+//! to be too low (2^14) must fail, so the test has the power to see a difference; and the
+//! adaptive count (`--photons auto`) must pass where its results say it does. Slow tier
 //! (`cargo test --release -- --ignored`, ~5 min on 2 cores for both scenes): the committed references were made
 //! by `examples/convergence.rs` (which documents the seeds and poses), and must be regenerated
 //! with it when the physics or the sensor's noise streams change.
@@ -20,7 +21,7 @@ const MAX_DEPTH: u32 = 64;
 const SEEDS_A: [u64; 2] = [11, 12];
 const SEEDS_C: [u64; 2] = [31, 32];
 
-fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Verdict {
+fn verdict(scene_name: &str, angle_deg: f64, results: &str, budget: (u64, bool)) -> Verdict {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(
         root.join("validation/results/convergence")
@@ -38,12 +39,13 @@ fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Ver
     scan.scan_angle_rad = angle_deg.to_radians();
     scan.poses = POSES;
     let poses = plan_border_scan(&border_b, &scan, &world.mount);
-    let same = sample_profiles(&trace, &head, &poses, &SEEDS_A, photons, MAX_DEPTH);
-    let independent = sample_profiles(&trace, &head, &poses, &SEEDS_C, photons, MAX_DEPTH);
+    let same = sample_profiles(&trace, &head, &poses, &SEEDS_A, budget, MAX_DEPTH);
+    let independent = sample_profiles(&trace, &head, &poses, &SEEDS_C, budget, MAX_DEPTH);
     let v = judge(&reference, &reference_other, &same, &independent);
     eprintln!(
-        "{scene_name} at {angle_deg}°, 2^{}: {v:?}",
-        photons.trailing_zeros()
+        "{scene_name} at {angle_deg}°, 2^{} (adaptive: {}): {v:?}",
+        budget.0.trailing_zeros(),
+        budget.1
     );
     v
 }
@@ -52,14 +54,28 @@ fn verdict(scene_name: &str, angle_deg: f64, results: &str, photons: u64) -> Ver
 #[ignore = "slow tier: ~2.5 min on 2 cores"]
 fn the_default_photon_count_is_converged_on_edge_study_bare_at_40_degrees() {
     let (scene, results) = ("edge_study_bare.toml", "edge_study_bare");
-    assert!(verdict(scene, 40.0, results, DEFAULT_PHOTONS).converged);
-    assert!(!verdict(scene, 40.0, results, 1 << 14).converged);
+    assert!(verdict(scene, 40.0, results, (DEFAULT_PHOTONS, false)).converged);
+    assert!(!verdict(scene, 40.0, results, (1 << 14, false)).converged);
 }
 
 #[test]
 #[ignore = "slow tier: ~2.5 min on 2 cores"]
 fn the_default_photon_count_is_converged_on_the_car_side_window_at_45_degrees() {
     let (scene, results) = ("car_side_window.toml", "car_side_window_45");
-    assert!(verdict(scene, 45.0, results, DEFAULT_PHOTONS).converged);
-    assert!(!verdict(scene, 45.0, results, 1 << 14).converged);
+    assert!(verdict(scene, 45.0, results, (DEFAULT_PHOTONS, false)).converged);
+    assert!(!verdict(scene, 45.0, results, (1 << 14, false)).converged);
+}
+
+#[test]
+#[ignore = "slow tier: ~1 min on 2 cores"]
+fn the_adaptive_photon_count_is_converged_on_the_car_side_window_at_45_degrees() {
+    // The paper's setting. On the pane at 40° it is not (30 of 32 same-seed BIPs agree, one
+    // short of criterion 2): validation/results/convergence/README.md.
+    let v = verdict(
+        "car_side_window.toml",
+        45.0,
+        "car_side_window_45",
+        (DEFAULT_PHOTONS, true),
+    );
+    assert!(v.converged);
 }

@@ -56,6 +56,7 @@ fn locate(path: &Path) -> LocateReport {
     };
     let trace = TraceSettings {
         photons: 1 << 16,
+        adaptive: false,
         max_depth: 64,
         seed: 1,
     };

@@ -3,6 +3,7 @@
 //! the source of its reference value; validation/README.md lists what each one proves.
 
 mod accel;
+mod adaptive;
 mod bad_input;
 mod binary;
 mod cli;

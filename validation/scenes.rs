@@ -59,6 +59,7 @@ fn flat_opaque_profile_matches_the_analytic_plate_and_table() {
     let poses = plan_border_scan(&border, &world.scan, &world.mount);
     let settings = TraceSettings {
         photons: 1 << 21,
+        adaptive: false,
         max_depth: 16,
         seed: 5,
     };
@@ -133,6 +134,7 @@ fn mixed_pixels_the_selection_mode_decides_between_pane_and_background() {
     let pose = plan_border_scan(&border, &world.scan, &world.mount).remove(0);
     let settings = TraceSettings {
         photons: 1 << 19,
+        adaptive: false,
         max_depth: 64,
         seed: 9,
     };
@@ -200,6 +202,7 @@ fn car_window_edge_line_bips_find_p_e_where_the_highest_point_does_not() {
     scan.poses = 3;
     let settings = TraceSettings {
         photons: 1 << 16,
+        adaptive: false,
         max_depth: 64,
         seed: 1,
     };
@@ -261,6 +264,7 @@ fn skipping_connections_that_cannot_land_changes_no_image() {
         let poses = plan_border_scan(&border, &world.scan, &world.mount);
         let settings = TraceSettings {
             photons: 1 << 15,
+            adaptive: false,
             max_depth: 64,
             seed: 3,
         };
@@ -307,6 +311,7 @@ fn edge_study_tape_is_read_on_its_surface_at_10_and_40_degrees() {
     let border = world.true_border_in_base().expect("the scene has a target");
     let settings = TraceSettings {
         photons: 1 << 16,
+        adaptive: false,
         max_depth: 16,
         seed: 3,
     };
@@ -382,6 +387,7 @@ fn edge_line_bips_land_on_p_e_on_simulated_flat_seamed_and_pencil_edges() {
     ];
     let settings = TraceSettings {
         photons: 1 << 16,
+        adaptive: false,
         max_depth: 16,
         seed: 5,
     };
@@ -458,6 +464,7 @@ fn the_paper_scan_angle_finding_holds_at_a_short_exposure_and_not_at_the_default
     let border_b = world.true_border_in_base().expect("the scene has a target");
     let settings = TraceSettings {
         photons: 1 << 18,
+        adaptive: false,
         max_depth: 16,
         seed: 2,
     };

@@ -139,17 +139,17 @@ impl Scene {
     }
 
     /// Simulates scan pose `pose` as `scan` does (same seed, same numbers).
-    #[pyo3(signature = (pose, *, photons, seed, max_depth, threads=None))]
+    #[pyo3(signature = (pose, *, photons=None, seed, max_depth, threads=None))]
     fn simulate<'py>(
         &self,
         py: Python<'py>,
         pose: usize,
-        photons: u64,
+        photons: Option<u64>,
         seed: u64,
         max_depth: u32,
         threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        embed::check_light(photons, max_depth).map_err(to_py)?;
+        let (photons, adaptive) = embed::check_light(photons, max_depth).map_err(to_py)?;
         let world = self.world();
         if world.target.is_none() {
             return Err(input(anyhow::anyhow!(
@@ -170,6 +170,7 @@ impl Scene {
         }
         let settings = TraceSettings {
             photons,
+            adaptive,
             max_depth,
             seed,
         };

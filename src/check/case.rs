@@ -32,6 +32,7 @@ pub fn run_case(case: &CaseDef) -> anyhow::Result<Metrics> {
     };
     let trace = TraceSettings {
         photons: case.photons,
+        adaptive: false,
         max_depth: 64,
         seed: case.seed,
     };

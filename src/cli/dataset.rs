@@ -46,9 +46,10 @@ pub struct DatasetArgs {
     /// readers without binary PLY).
     #[arg(long)]
     pub ply_ascii: bool,
-    /// Laser photons traced per sample (1000 to 2^40).
-    #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
-    pub photons: u64,
+    /// Laser photons traced per sample (1000 to 2^40). `auto`: each sample stops once its BIP
+    /// has converged, after 2^17 to 2^20 photons.
+    #[arg(long, value_name = "N|auto", default_value_t = flags::PhotonsArg::default())]
+    pub photons: flags::PhotonsArg,
     #[command(flatten)]
     pub transport: flags::TransportArgs,
     /// Print a machine-readable summary on stdout instead of progress on stderr.
@@ -65,7 +66,7 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
             format!("must be in 1..={MAX_SAMPLES}, got {}", args.count),
         ));
     }
-    flags::photons(args.photons)?;
+    let (photons, adaptive) = flags::photons(args.photons)?;
     args.transport.check()?;
     let shard = match &args.shard {
         Some(s) => Shard::parse_flag(s).map_err(CliError::input)?,
@@ -95,7 +96,8 @@ pub fn run(args: DatasetArgs) -> Result<(), CliError> {
         randomization: randomization.as_ref(),
         seed: args.seed,
         count: args.count,
-        photons: args.photons,
+        photons,
+        adaptive,
         max_depth: args.transport.max_depth,
         ply_ascii: args.ply_ascii,
         shard,

@@ -17,14 +17,16 @@ pub fn message(error: &CliError) -> String {
     super::error_chain(&error.error)
 }
 
-/// Checks `--photons` and `--max-depth` as `scan` does.
-pub fn check_light(photons: u64, max_depth: u32) -> Result<(), CliError> {
-    flags::photons(photons)?;
+/// Checks `--photons` and `--max-depth` as `scan` does; returns the photon count and whether
+/// it is adaptive (`photons` is `None`: `--photons auto`).
+pub fn check_light(photons: Option<u64>, max_depth: u32) -> Result<(u64, bool), CliError> {
+    let budget = flags::photons(photons.map_or(flags::PhotonsArg::Auto, flags::PhotonsArg::Count))?;
     flags::TransportArgs {
         max_depth,
         threads: None,
     }
-    .check()
+    .check()?;
+    Ok(budget)
 }
 
 /// `glassscan locate SCENE FLAGS… --json` on `world`, loaded by the caller from the file that

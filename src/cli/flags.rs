@@ -8,9 +8,10 @@ use crate::limits::{MAX_DEPTH, MAX_PHOTONS, MAX_POSES, MIN_PHOTONS};
 /// `--photons` and `--seed`, shared by the commands that trace light at scan poses.
 #[derive(Debug, clap::Args)]
 pub struct LightArgs {
-    /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise.
-    #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
-    pub photons: u64,
+    /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise. `auto`:
+    /// each pose stops once its BIP has converged, after 2^17 to 2^20 photons.
+    #[arg(long, value_name = "N|auto", default_value_t = PhotonsArg::default())]
+    pub photons: PhotonsArg,
     /// Master seed of all random numbers (light, sensor noise, error draws).
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
@@ -90,10 +91,62 @@ pub fn angle_rad(flag: &str, deg: f64) -> Result<f64, CliError> {
     }
 }
 
-/// `--photons`: in [`MIN_PHOTONS`, `MAX_PHOTONS`] per pose.
-pub fn photons(n: u64) -> Result<u64, CliError> {
+/// What `--photons` says: a count, or `auto` (each pose stops once converged,
+/// `scan::adaptive`, at most at the default count).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhotonsArg {
+    /// This many photons per pose.
+    Count(u64),
+    /// The adaptive count.
+    Auto,
+}
+
+impl Default for PhotonsArg {
+    fn default() -> Self {
+        PhotonsArg::Count(crate::transport::DEFAULT_PHOTONS)
+    }
+}
+
+impl std::fmt::Display for PhotonsArg {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PhotonsArg::Count(n) => write!(f, "{n}"),
+            PhotonsArg::Auto => f.write_str("auto"),
+        }
+    }
+}
+
+/// In JSON summaries: the count as a number, or `"auto"`.
+impl serde::Serialize for PhotonsArg {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            PhotonsArg::Count(n) => s.serialize_u64(*n),
+            PhotonsArg::Auto => s.serialize_str("auto"),
+        }
+    }
+}
+
+impl std::str::FromStr for PhotonsArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "auto" {
+            return Ok(PhotonsArg::Auto);
+        }
+        s.parse()
+            .map(PhotonsArg::Count)
+            .map_err(|_| format!("expected a whole number of photons or `auto`, got `{s}`"))
+    }
+}
+
+/// `--photons`: `auto` or in [`MIN_PHOTONS`, `MAX_PHOTONS`] per pose. Returns the photon count
+/// (with `auto`, the most a pose may take) and whether it is adaptive.
+pub fn photons(arg: PhotonsArg) -> Result<(u64, bool), CliError> {
+    let n = match arg {
+        PhotonsArg::Auto => return Ok((crate::transport::DEFAULT_PHOTONS, true)),
+        PhotonsArg::Count(n) => n,
+    };
     if (MIN_PHOTONS..=MAX_PHOTONS).contains(&n) {
-        Ok(n)
+        Ok((n, false))
     } else {
         Err(bad_flag(
             "photons",

@@ -119,7 +119,7 @@ fn resolve_on(mut world: World, args: &LocateArgs) -> Result<Resolved, CliError>
     if let Some(a) = args.scan_angle_deg {
         scan.scan_angle_rad = flags::scan_angle_rad(a)?;
     }
-    flags::photons(args.light.photons)?;
+    let (photons, adaptive) = flags::photons(args.light.photons)?;
     if let Some(ms) = args.exposure_ms {
         world.sensor.imager.exposure_s = flags::exposure_s(ms)?;
     }
@@ -161,7 +161,8 @@ fn resolve_on(mut world: World, args: &LocateArgs) -> Result<Resolved, CliError>
         scan,
         settings: LocateSettings { rule, errors },
         trace: TraceSettings {
-            photons: args.light.photons,
+            photons,
+            adaptive,
             max_depth: 64,
             seed: args.light.seed,
         },

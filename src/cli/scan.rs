@@ -61,9 +61,10 @@ pub struct ScanArgs {
     /// Master seed of all random numbers.
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
-    /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise.
-    #[arg(long, value_name = "N", default_value_t = crate::transport::DEFAULT_PHOTONS)]
-    pub photons: u64,
+    /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise. `auto`:
+    /// each pose stops once its BIP has converged, after 2^17 to 2^20 photons.
+    #[arg(long, value_name = "N|auto", default_value_t = flags::PhotonsArg::default())]
+    pub photons: flags::PhotonsArg,
     #[command(flatten)]
     pub transport: flags::TransportArgs,
     /// Write into a non-empty output directory (files are replaced one by one, atomically).
@@ -154,7 +155,7 @@ fn resolve(mut args: ScanArgs) -> Result<RunConfig, CliError> {
     };
     apply_overrides(&mut world, &overrides)?;
     let scan = world.scan;
-    flags::photons(args.photons)?;
+    let (photons, adaptive) = flags::photons(args.photons)?;
     args.transport.check()?;
     if world.target.is_none() {
         return Err(CliError::input(anyhow::anyhow!(
@@ -166,7 +167,8 @@ fn resolve(mut args: ScanArgs) -> Result<RunConfig, CliError> {
         world,
         scan,
         settings: TraceSettings {
-            photons: args.photons,
+            photons,
+            adaptive,
             max_depth: args.transport.max_depth,
             seed: args.seed,
         },

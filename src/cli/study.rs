@@ -161,7 +161,7 @@ fn run_scan_angle(mut args: ScanAngleArgs) -> Result<(), CliError> {
     } else {
         Some(map_settings(&args)?)
     };
-    flags::photons(args.light.photons)?;
+    let (photons, adaptive) = flags::photons(args.light.photons)?;
     args.scene = super::scene_path(&args.scene)?;
 
     let (bare, bare_world) = setup(&args.scene, Variant::Bare)?;
@@ -202,7 +202,8 @@ fn run_scan_angle(mut args: ScanAngleArgs) -> Result<(), CliError> {
             ..bare_world.scan
         },
         trace: TraceSettings {
-            photons: args.light.photons,
+            photons,
+            adaptive,
             max_depth: 64,
             seed: args.light.seed,
         },

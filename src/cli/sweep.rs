@@ -72,7 +72,7 @@ pub fn run(mut args: SweepArgs) -> Result<(), CliError> {
     if let Some(n) = args.poses {
         flags::poses("poses", n, 1, "")?;
     }
-    flags::photons(args.light.photons)?;
+    let (photons, adaptive) = flags::photons(args.light.photons)?;
 
     let world = super::load_scene(&args.scene)?;
     let max_dn = world.sensor.imager.max_dn();
@@ -104,7 +104,8 @@ pub fn run(mut args: SweepArgs) -> Result<(), CliError> {
         scan.poses = n;
     }
     let trace = TraceSettings {
-        photons: args.light.photons,
+        photons,
+        adaptive,
         max_depth: 64,
         seed: args.light.seed,
     };

@@ -236,6 +236,7 @@ mod tests {
             seed,
             count: 6,
             photons: 4096,
+            adaptive_photons: false,
             max_depth: 64,
             ply_ascii: false,
         }

@@ -36,8 +36,10 @@ pub struct DatasetRun<'a> {
     pub seed: u64,
     /// Samples of the whole dataset.
     pub count: u64,
-    /// Laser photons per sample.
+    /// Laser photons per sample (with `adaptive`, the most a sample may take).
     pub photons: u64,
+    /// Whether each sample stops once its BIP has converged (`scan::adaptive`).
+    pub adaptive: bool,
     /// Longest photon path.
     pub max_depth: u32,
     /// `points.ply` as ASCII instead of binary little-endian.
@@ -81,6 +83,7 @@ impl DatasetRun<'_> {
             seed: self.seed,
             count: self.count,
             photons: self.photons,
+            adaptive_photons: self.adaptive,
             max_depth: self.max_depth,
             ply_ascii: self.ply_ascii,
         }
@@ -124,6 +127,7 @@ impl DatasetRun<'_> {
             randomization: self.randomization,
             seed: self.seed,
             photons: self.photons,
+            adaptive: self.adaptive,
             max_depth: self.max_depth,
         };
         let batch = rayon::current_num_threads().max(1) * SAMPLES_PER_THREAD;

@@ -43,8 +43,12 @@ pub struct RunInfo {
     pub seed: u64,
     /// Number of samples of the whole dataset (all shards).
     pub count: u64,
-    /// Laser photons traced per sample.
+    /// Laser photons traced per sample (with `adaptive_photons`, the most a sample may take).
     pub photons: u64,
+    /// Each sample stopped once its BIP had converged (`--photons` not given); absent (false)
+    /// in run files written before the adaptive count existed.
+    #[serde(default)]
+    pub adaptive_photons: bool,
     /// Longest photon path, in surface interactions.
     pub max_depth: u32,
     /// `points.ply` written as ASCII (`--ply-ascii`) instead of binary; absent (false) in run
@@ -69,6 +73,11 @@ impl RunInfo {
             "photons",
             self.photons.to_string(),
             other.photons.to_string(),
+        );
+        check(
+            "adaptive_photons",
+            self.adaptive_photons.to_string(),
+            other.adaptive_photons.to_string(),
         );
         check(
             "max_depth",
@@ -429,6 +438,7 @@ mod tests {
             seed: 1,
             count: 10,
             photons: 4096,
+            adaptive_photons: false,
             max_depth: 64,
             ply_ascii: false,
         };

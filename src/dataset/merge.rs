@@ -240,6 +240,7 @@ mod tests {
             seed: 1,
             count: 5,
             photons: 4096,
+            adaptive_photons: false,
             max_depth: 64,
             ply_ascii: false,
         }

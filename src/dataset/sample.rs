@@ -53,8 +53,10 @@ pub struct SampleContext<'a> {
     pub randomization: Option<&'a Randomization>,
     /// Master seed of the draws.
     pub seed: u64,
-    /// Laser photons per sample.
+    /// Laser photons per sample (with `adaptive`, the most a sample may take).
     pub photons: u64,
+    /// Whether each sample stops once its BIP has converged (`scan::adaptive`).
+    pub adaptive: bool,
     /// Longest photon path.
     pub max_depth: u32,
 }
@@ -138,6 +140,7 @@ pub fn make_sample<'a>(ctx: &SampleContext<'a>, index: u64) -> Result<Sample<'a>
     );
     let settings = TraceSettings {
         photons: ctx.photons,
+        adaptive: ctx.adaptive,
         max_depth: ctx.max_depth,
         seed: draw.noise_seed,
     };

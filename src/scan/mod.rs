@@ -6,6 +6,7 @@
 //! tangent plane, looking from outside and above: z_S = −cos α·o − sin α·n. The sensor sits at
 //! `standoff` along −z_S from p, so p is at range `standoff` on the laser axis.
 
+pub mod adaptive;
 pub mod bip;
 pub mod errors;
 pub mod locate;

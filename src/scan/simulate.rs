@@ -4,6 +4,7 @@
 
 use std::ops::Range;
 
+use super::adaptive::{agree, bip_point, newest_half};
 use super::poses::ScanPose;
 use crate::sampler::PoseSampler;
 use crate::sensor::diffraction::{AiryPsf, DIFFRACTION_OVERSAMPLING};
@@ -13,7 +14,9 @@ use crate::sensor::path_class::PathClass;
 use crate::sensor::profile::{extract, Profile};
 use crate::sensor::speckle::speckle_image;
 use crate::sensor::SensorHead;
-use crate::transport::{render, Irradiance, TraceScene, TraceSettings, TraceStats};
+use crate::transport::{
+    render, Irradiance, Rendering, TraceScene, TraceSettings, TraceStats, FIRST_PHOTON_SET,
+};
 
 /// Everything the sensor produced at one pose.
 #[derive(Clone, Debug)]
@@ -158,6 +161,10 @@ pub fn trace_pose(
     pose: &ScanPose,
     settings: &TraceSettings,
 ) -> (Irradiance, TraceStats) {
+    if settings.adaptive {
+        let r = simulate_until_converged(scene, head, pose, settings);
+        return (r.irradiance, r.stats);
+    }
     let (mut irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
     apply_lens_psf(&mut irradiance, head, pose, settings.seed);
     (irradiance, stats)
@@ -204,8 +211,54 @@ pub fn simulate_pose(
     pose: &ScanPose,
     settings: &TraceSettings,
 ) -> PoseResult {
+    if settings.adaptive {
+        return simulate_until_converged(scene, head, pose, settings);
+    }
     let (irradiance, stats) = trace_pose(scene, head, pose, settings);
     sense_pose(irradiance, stats, head, pose, settings)
+}
+
+/// Simulates `pose` with photon sets until its BIP has converged (`scan::adaptive`) or
+/// `settings.photons` photons are traced: the result of the photons traced (`stats.photons`).
+fn simulate_until_converged(
+    scene: &TraceScene,
+    head: &SensorHead,
+    pose: &ScanPose,
+    settings: &TraceSettings,
+) -> PoseResult {
+    let most = settings.photons;
+    let sensed = |(light, stats): (Irradiance, TraceStats)| {
+        let mut light = light;
+        apply_lens_psf(&mut light, head, pose, settings.seed);
+        sense_pose(light, stats, head, pose, settings)
+    };
+    let bip = |r: &PoseResult| bip_point(&r.profile, &pose.sensor);
+    let mut rendering = Rendering::new(scene, head, &pose.sensor, settings, pose.index as u64);
+    rendering.trace_to(FIRST_PHOTON_SET.min(most));
+    let (mut first_n, stats) = rendering.develop();
+    let mut result = sensed((first_n.clone(), stats));
+    while rendering.photons() < most {
+        let n = rendering.photons();
+        let all = (2 * n).min(most);
+        rendering.trace_to(all);
+        let (all_light, stats) = rendering.develop();
+        let newest = (all == 2 * n).then(|| newest_half(&all_light, &first_n));
+        let bip_first_n = bip(&result);
+        // The two sensings are independent (each keyed by seed and pose alone): side by side.
+        let (whole, bip_newest) = rayon::join(
+            || sensed((all_light.clone(), stats)),
+            || newest.map(|light| bip(&sensed((light, stats)))),
+        );
+        result = whole;
+        let Some(bip_newest) = bip_newest else {
+            break; // the last set is a part one: nothing is compared after it
+        };
+        if agree(&[bip_first_n, bip_newest, bip(&result)]) {
+            break;
+        }
+        first_n = all_light;
+    }
+    result
 }
 
 #[cfg(test)]

@@ -52,6 +52,10 @@ pub struct ProfileSample {
     pub pose: usize,
     /// Transport/sensor seed.
     pub seed: u64,
+    /// Photons traced (with the adaptive count, where the pose stopped; 0 in results written
+    /// before it was recorded).
+    #[serde(default)]
+    pub photons: u64,
     /// Edge-line BIP error |BIP − p_e| (mm); `None` when the rule found no BIP.
     pub bip_error_mm: Option<f64>,
     /// The edge-line BIP in the base frame (mm).
@@ -76,19 +80,21 @@ mod nan_as_null {
     }
 }
 
-/// Simulates every pose at every seed with `photons` photons, in (seed, pose) order.
+/// Simulates every pose at every seed with `photons` photons (with `adaptive`, at most that
+/// many: `scan::adaptive`), in (seed, pose) order.
 pub fn sample_profiles(
     trace: &TraceScene,
     head: &SensorHead,
     poses: &[ScanPose],
     seeds: &[u64],
-    photons: u64,
+    (photons, adaptive): (u64, bool),
     max_depth: u32,
 ) -> Vec<ProfileSample> {
     let mut out = Vec::with_capacity(seeds.len() * poses.len());
     for &seed in seeds {
         let settings = TraceSettings {
             photons,
+            adaptive,
             max_depth,
             seed,
         };
@@ -106,6 +112,7 @@ pub fn sample_profiles(
             out.push(ProfileSample {
                 pose: pose.index,
                 seed,
+                photons: r.stats.photons,
                 bip_error_mm,
                 bip_mm,
                 z_mm,
@@ -340,6 +347,7 @@ mod tests {
         ProfileSample {
             pose,
             seed,
+            photons: 0,
             bip_error_mm: bip,
             bip_mm: bip.map(|b| [b, 0.0, 0.0]),
             z_mm: z.to_vec(),

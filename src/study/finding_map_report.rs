@@ -184,6 +184,7 @@ mod tests {
             },
             trace: TraceSettings {
                 photons: 1,
+                adaptive: false,
                 max_depth: 1,
                 seed: 1,
             },

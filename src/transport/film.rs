@@ -57,23 +57,29 @@ impl Film {
         }
     }
 
-    /// The irradiance (W/m²) for pixels of `pixel_area_m2`.
-    pub fn develop(self, pixel_area_m2: f64) -> Irradiance {
-        let Film {
-            mut total,
-            mut by_class,
-            lit,
-        } = self;
-        let lit_classes = by_class
-            .iter_mut()
-            .zip(lit)
-            .filter(|(_, l)| *l)
-            .map(|(c, _)| c);
-        for img in std::iter::once(&mut total).chain(lit_classes) {
-            for v in &mut img.data {
-                *v /= pixel_area_m2;
-            }
+    /// The irradiance (W/m²) for pixels of `pixel_area_m2`, each splat's flux scaled by
+    /// `scale` (the tracer's 1/photons). The film stays as it is, so more can be added.
+    pub fn develop(&self, pixel_area_m2: f64, scale: f64) -> Irradiance {
+        let develop = |img: &Image<f64>| Image {
+            width: img.width,
+            height: img.height,
+            data: img.data.iter().map(|v| v * scale / pixel_area_m2).collect(),
+        };
+        let by_class = self
+            .by_class
+            .iter()
+            .zip(&self.lit)
+            .map(|(img, &lit)| {
+                if lit {
+                    develop(img)
+                } else {
+                    Image::<f64>::new(img.width, img.height)
+                }
+            })
+            .collect();
+        Irradiance {
+            total: develop(&self.total),
+            by_class,
         }
-        Irradiance { total, by_class }
     }
 }

@@ -40,4 +40,7 @@ pub mod trace;
 pub use crate::sensor::path_class::PathClass;
 pub use film::Irradiance;
 pub use scene::{TraceScene, TransportError};
-pub use trace::{render, TraceSettings, TraceStats, DEFAULT_PHOTONS, IMPERFECTION_CONNECTION_RATE};
+pub use trace::{
+    render, Rendering, TraceSettings, TraceStats, DEFAULT_PHOTONS, FIRST_PHOTON_SET,
+    IMPERFECTION_CONNECTION_RATE,
+};

@@ -35,8 +35,11 @@ pub const DEFAULT_PHOTONS: u64 = 1 << 20;
 /// Settings of one rendering.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TraceSettings {
-    /// Laser photons per pose, ≥ 1.
+    /// Laser photons per pose, ≥ 1; with `adaptive`, the most a pose may take.
     pub photons: u64,
+    /// Whether each pose stops at the first photon set after which its BIP has converged
+    /// (`scan::adaptive`; used by `scan::simulate::trace_pose`, not by `render`).
+    pub adaptive: bool,
     /// Largest number of surface interactions per photon path (≥ 1), specular ones included.
     pub max_depth: u32,
     /// Master seed.
@@ -121,6 +124,65 @@ const ROULETTE_KEY: u64 = 0x726f_756c_6574_7465;
 /// splats take tens of megabytes whatever the photon count.
 const CHUNKS_PER_BATCH: u64 = 256;
 
+/// Photons of a rendering's first set; every later set doubles the count so far.
+pub const FIRST_PHOTON_SET: u64 = 1 << 16;
+
+/// How a rendering's photons split into sets, each stratified over the laser fan on its own.
+///
+/// A set's photons take the fan positions (k + u)/size, k = 0..size, paired with a Kronecker
+/// lattice over the beam and the aperture (`PoseSampler::lattice4`), so each set covers the fan
+/// evenly and the photons of a column are well spread. A fixed photon count is one set. A
+/// rendering that grows (the adaptive count, `TraceSettings::adaptive`) takes the sets [0, F),
+/// [F, 2F), [2F, 4F), …, F = `FIRST_PHOTON_SET`, the last one ending at its count, so it can
+/// stop after any set and add the next without re-tracing; up to F photons both are the same.
+#[derive(Clone, Copy, Debug)]
+struct PhotonSets {
+    /// The rendering's photon count.
+    total: u64,
+    /// Doubling sets (a growing rendering) instead of one.
+    doubling: bool,
+}
+
+/// The set photon `i` belongs to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PhotonSet {
+    index: u32,
+    start: u64,
+    size: u64,
+}
+
+impl PhotonSets {
+    /// The set of photon `i` (< total).
+    fn of(&self, i: u64) -> PhotonSet {
+        let (index, start, end) = if !self.doubling || i < FIRST_PHOTON_SET {
+            (
+                0,
+                0,
+                if self.doubling {
+                    FIRST_PHOTON_SET
+                } else {
+                    self.total
+                },
+            )
+        } else {
+            // Set k ≥ 1 spans [F·2^(k−1), F·2^k).
+            let k = (i / FIRST_PHOTON_SET).ilog2() + 1;
+            (k, FIRST_PHOTON_SET << (k - 1), FIRST_PHOTON_SET << k)
+        };
+        PhotonSet {
+            index,
+            start,
+            size: end.min(self.total) - start,
+        }
+    }
+
+    /// Whether a rendering may stop after `n` photons and later grow: n ends a set whatever the
+    /// final count (0, F, 2F, 4F, …).
+    fn is_boundary(n: u64) -> bool {
+        n == 0 || (n % FIRST_PHOTON_SET == 0 && (n / FIRST_PHOTON_SET).is_power_of_two())
+    }
+}
+
 /// The least probability of a smooth face's imperfection connection (`Tracer::glass_vertex`):
 /// 25 times the shipped scenes' face_imperfection of 0.002, so their face returns get 25 times
 /// the samples for about 0.1 more connections per photon.
@@ -139,7 +201,8 @@ struct GlassUniforms {
 const DIMS_PER_VERTEX: u32 = 8;
 
 /// Renders the irradiance images (W/m², total and per path class) that the sensor at
-/// `sensor_pose` (T_BS) sees. `pose_index` keys the random numbers.
+/// `sensor_pose` (T_BS) sees, with `settings.photons` photons. `pose_index` keys the random
+/// numbers.
 pub fn render(
     scene: &TraceScene,
     head: &SensorHead,
@@ -147,46 +210,121 @@ pub fn render(
     settings: &TraceSettings,
     pose_index: u64,
 ) -> (Irradiance, TraceStats) {
-    let sampler = PoseSampler::new(settings.seed, pose_index);
-    let chunks = settings.photons.div_ceil(CHUNK);
-    let cam = &head.camera;
-    let spec = cam.spec();
-    let mut film = Film::new(spec.columns, spec.rows);
-    let mut stats = TraceStats::default();
-    // Chunks run in parallel a batch at a time and are summed in chunk order, so the images
-    // are the same for any thread count and memory does not grow with the photon count.
-    let mut first = 0;
-    while first < chunks {
-        let last = (first + CHUNKS_PER_BATCH).min(chunks);
-        let results: Vec<(Vec<Splat>, TraceStats)> = (first..last)
-            .into_par_iter()
-            .map(|c| {
-                let aperture = Aperture::new(&head.camera, sensor_pose);
-                let mut tracer = Tracer {
-                    scene,
-                    head,
-                    aperture,
-                    settings,
-                    sampler: &sampler,
-                    pose_index,
-                    splats: Vec::new(),
-                    stats: TraceStats::default(),
-                };
-                let end = ((c + 1) * CHUNK).min(settings.photons);
-                for i in c * CHUNK..end {
-                    tracer.trace_photon(i);
-                }
-                (tracer.splats, tracer.stats)
-            })
-            .collect();
-        for (splats, s) in &results {
-            film.add(splats);
-            stats.add(s);
+    let mut rendering = Rendering::new(scene, head, sensor_pose, settings, pose_index);
+    rendering.trace_to(settings.photons);
+    rendering.develop()
+}
+
+/// A rendering: the photons 0..n traced so far, summed on a film, and developed into images at
+/// n (`develop`). With `settings.adaptive` it grows: photons are added a set at a time
+/// (`PhotonSets`), photon i takes the same random numbers whatever the final count, and
+/// developing after n photons gives what a rendering traced to n at once gives (bit for bit
+/// when n is a power of two: the film holds each photon's flux as if it were the only one, and
+/// developing divides by n). Without it the photons are one stratified set, traced at once.
+pub struct Rendering<'a> {
+    scene: &'a TraceScene,
+    head: &'a SensorHead,
+    sensor_pose: &'a Pose,
+    settings: &'a TraceSettings,
+    pose_index: u64,
+    sampler: PoseSampler,
+    film: Film,
+    stats: TraceStats,
+    traced: u64,
+}
+
+impl<'a> Rendering<'a> {
+    /// An empty rendering of the sensor at `sensor_pose` (T_BS); `settings.photons` is not
+    /// used (the caller says how many photons to trace), `settings.adaptive` says whether it
+    /// can grow.
+    pub fn new(
+        scene: &'a TraceScene,
+        head: &'a SensorHead,
+        sensor_pose: &'a Pose,
+        settings: &'a TraceSettings,
+        pose_index: u64,
+    ) -> Self {
+        let spec = head.camera.spec();
+        Rendering {
+            scene,
+            head,
+            sensor_pose,
+            settings,
+            pose_index,
+            sampler: PoseSampler::new(settings.seed, pose_index),
+            film: Film::new(spec.columns, spec.rows),
+            stats: TraceStats::default(),
+            traced: 0,
         }
-        first = last;
     }
-    let image = film.develop(cam.pixel_area());
-    (image, stats)
+
+    /// Photons traced so far.
+    pub fn photons(&self) -> u64 {
+        self.traced
+    }
+
+    /// Traces photons `self.photons()..n` (nothing if n is not larger). An adaptive rendering
+    /// grows in whole photon sets: before a further call, `n` must have been 0, F or F·2^k (F =
+    /// `FIRST_PHOTON_SET`); any n can be the last. Any other rendering is traced in one call.
+    ///
+    /// # Panics
+    /// If more photons are added to a rendering that stopped inside a set, or to one that is
+    /// not adaptive.
+    pub fn trace_to(&mut self, n: u64) {
+        if n <= self.traced {
+            return;
+        }
+        let doubling = self.settings.adaptive;
+        assert!(
+            self.traced == 0 || (doubling && PhotonSets::is_boundary(self.traced)),
+            "a rendering of {} photons cannot grow (adaptive: {doubling})",
+            self.traced
+        );
+        let sets = PhotonSets { total: n, doubling };
+        // Chunks of CHUNK photons run in parallel a batch at a time and are summed in photon
+        // order, so the images are the same for any thread count and memory does not grow with
+        // the photon count.
+        while self.traced < n {
+            let batch_end = n.min(self.traced + CHUNK * CHUNKS_PER_BATCH);
+            let starts: Vec<u64> = (self.traced..batch_end).step_by(CHUNK as usize).collect();
+            let results: Vec<(Vec<Splat>, TraceStats)> = starts
+                .into_par_iter()
+                .map(|start| {
+                    let mut tracer = Tracer {
+                        scene: self.scene,
+                        head: self.head,
+                        aperture: Aperture::new(&self.head.camera, self.sensor_pose),
+                        settings: self.settings,
+                        sampler: &self.sampler,
+                        sets,
+                        pose_index: self.pose_index,
+                        splats: Vec::new(),
+                        stats: TraceStats::default(),
+                    };
+                    for i in start..(start + CHUNK).min(batch_end) {
+                        tracer.trace_photon(i);
+                    }
+                    (tracer.splats, tracer.stats)
+                })
+                .collect();
+            for (splats, s) in &results {
+                self.film.add(splats);
+                self.stats.add(s);
+            }
+            self.traced = batch_end;
+        }
+    }
+
+    /// The irradiance images and the counters of the photons traced so far.
+    pub fn develop(&self) -> (Irradiance, TraceStats) {
+        let per_photon = 1.0 / self.traced.max(1) as f64;
+        let image = self.film.develop(self.head.camera.pixel_area(), per_photon);
+        let mut stats = self.stats;
+        stats.flux_on_sensor_w *= per_photon;
+        stats.truncated_power_w *= per_photon;
+        stats.absorbed_w *= per_photon;
+        (image, stats)
+    }
 }
 
 /// What a photon carries between interactions.
@@ -237,6 +375,7 @@ struct Tracer<'a> {
     aperture: Aperture<'a>,
     settings: &'a TraceSettings,
     sampler: &'a PoseSampler,
+    sets: PhotonSets,
     /// Keys the rough edge's microsurface walks with the seed and the photon.
     pose_index: u64,
     splats: Vec<Splat>,
@@ -249,9 +388,11 @@ impl Tracer<'_> {
         let pose = self.aperture.sensor_pose;
         self.stats.photons += 1;
 
-        // Stratify the fan angle over the photon index so every column gets an even share.
-        let fan_u = (i as f64 + self.sampler.uniform(i, 0)) / self.settings.photons as f64;
-        let [b1, b2, l1, l2] = self.sampler.lattice4(i);
+        // Stratify the fan angle over the photon's set so every column gets an even share.
+        let set = self.sets.of(i);
+        let k = i - set.start;
+        let fan_u = (k as f64 + self.sampler.uniform(i, 0)) / set.size as f64;
+        let [b1, b2, l1, l2] = self.sampler.lattice4(k, set.index);
         let ray = laser.sample_ray([fan_u, b1, b2, 0.0]);
         let dir = pose.rotation * ray.direction;
         let stokes = match laser.polarization {
@@ -265,7 +406,8 @@ impl Tracer<'_> {
             origin: pose * ray.origin,
             leaving: None,
             dir,
-            flux: ray.weight * laser.power_w / self.settings.photons as f64,
+            // As if it were the only photon: `Rendering::develop` divides by the count.
+            flux: ray.weight * laser.power_w,
             stokes,
             all_specular: true,
             crossed_glass: false,
@@ -605,4 +747,51 @@ fn facing_normals(hit: &Hit, dir: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>)
     let ng = hit.geometric_normal * flip;
     let ns = hit.shading_normal * flip;
     (ng, if ns.dot(&-dir) > 0.0 { ns } else { ng })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn photon_sets_double_the_count_and_the_last_ends_at_the_total() {
+        const F: u64 = FIRST_PHOTON_SET;
+        let set = |total: u64, i: u64| {
+            PhotonSets {
+                total,
+                doubling: true,
+            }
+            .of(i)
+        };
+        // A rendering that does not grow is one set.
+        let one = PhotonSets {
+            total: 5 * F + 3,
+            doubling: false,
+        };
+        let all = PhotonSet {
+            index: 0,
+            start: 0,
+            size: 5 * F + 3,
+        };
+        assert_eq!(one.of(3 * F), all);
+        let whole = |index, start, size| PhotonSet { index, start, size };
+        // A count of F or less is one set: the single stratified run.
+        assert_eq!(set(1000, 999), whole(0, 0, 1000));
+        assert_eq!(set(F, 0), whole(0, 0, F));
+        // Then [F, 2F), [2F, 4F), [4F, 8F), …
+        assert_eq!(set(8 * F, F), whole(1, F, F));
+        assert_eq!(set(8 * F, 2 * F - 1), whole(1, F, F));
+        assert_eq!(set(8 * F, 2 * F), whole(2, 2 * F, 2 * F));
+        assert_eq!(set(8 * F, 8 * F - 1), whole(3, 4 * F, 4 * F));
+        // A count between boundaries ends its last set early; earlier sets are unchanged.
+        assert_eq!(set(5 * F, 4 * F), whole(3, 4 * F, F));
+        assert_eq!(set(5 * F, 3 * F), whole(2, 2 * F, 2 * F));
+        // Where a rendering may stop and grow again.
+        for n in [0, F, 2 * F, 4 * F, 1 << 30] {
+            assert!(PhotonSets::is_boundary(n), "{n}");
+        }
+        for n in [1, F - 1, 3 * F, 5 * F, F + 1] {
+            assert!(!PhotonSets::is_boundary(n), "{n}");
+        }
+    }
 }

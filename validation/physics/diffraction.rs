@@ -53,6 +53,7 @@ fn a_clean_line_at_f22_with_speckle_off_is_wider_than_two_pixels_and_passes_the_
     let scene = TraceScene::new(&world).unwrap();
     let settings = TraceSettings {
         photons: 1 << 20,
+        adaptive: false,
         max_depth: 16,
         seed: 31,
     };
@@ -224,6 +225,7 @@ fn every_pixel_and_profile_point_carries_its_path_classes_after_the_lens() {
     // the pixels that only the PSF lit — and every valid profile point has a label.
     let settings = TraceSettings {
         photons: 1 << 16,
+        adaptive: false,
         max_depth: 64,
         seed: 5,
     };

@@ -184,7 +184,7 @@ class Scene:
         self,
         pose: int = 0,
         *,
-        photons: int = _native.DEFAULT_PHOTONS,
+        photons: Union[int, str] = _native.DEFAULT_PHOTONS,
         seed: int = 1,
         max_depth: int = 64,
         threads: Optional[int] = None,
@@ -194,13 +194,19 @@ class Scene:
         ``pose_NNN``, for any thread count. Releases the GIL while it runs.
 
         Args:
-            photons: laser photons traced (1000 to 2⁴⁰; 2²⁰, the default, is converged).
+            photons: laser photons traced (1000 to 2⁴⁰; 2²⁰, the default, is converged), or
+                ``"auto"``: the pose stops once its BIP has converged, after 2¹⁷ to 2²⁰
+                photons (``stats["photons"]`` says how many), as ``--photons auto``.
             seed: master seed of every random number.
             max_depth: longest photon path, in surface interactions (1 to 4096).
             threads: worker threads (default: all cores); results do not depend on it.
         """
         raw = self._native.simulate(
-            int(pose), photons=photons, seed=seed, max_depth=max_depth, threads=threads
+            int(pose),
+            photons=None if photons == "auto" else photons,
+            seed=seed,
+            max_depth=max_depth,
+            threads=threads,
         )
         truth = dict(raw["ground_truth"])
         truth["ideal_profile"] = ideal_table(truth["ideal_profile"])
@@ -236,7 +242,7 @@ def locate(
     scan_angle_deg: Optional[float] = None,
     perturb: Optional[Sequence[float]] = None,
     exposure_ms: Optional[float] = None,
-    photons: int = _native.DEFAULT_PHOTONS,
+    photons: Union[int, str] = _native.DEFAULT_PHOTONS,
     seed: int = 1,
     errors: str = "off",
     bip: str = "edge-line",

@@ -1,0 +1,75 @@
+//! The adaptive photon count's stopping rule: a pose takes photons until its BIP stops moving.
+//!
+//! The rendering grows by photon sets (`transport::trace::FIRST_PHOTON_SET` F = 2¹⁶, then
+//! doubling: 2F, 4F, …), each stratified over the laser fan on its own (the loop is
+//! `scan::simulate::simulate_pose` with `TraceSettings::adaptive`). After every doubling from n
+//! to 2n photons the pose is sensed three times with the same seed (the same speckle and sensor
+//! noise, so only the Monte Carlo differs): from the first n photons (A), from the newest n
+//! alone (B) and from all 2n. The pose stops when the edge-line rule picks the same profile
+//! point as BIP in all three, or none in all three, or the settings' photon count is reached.
+//!
+//! Why this test: A and B are independent estimates at n photons, so their BIPs falling on one
+//! profile point is evidence that the BIP at 2n (which averages them) is away from the knife
+//! edges where a little more or less of the faint face return moves it by a point; a BIP near
+//! such a knife edge differs between the halves and the pose takes more photons. It is the
+//! pose-by-pose form of the convergence test's criterion 2 (`study::convergence`), with the
+//! Monte Carlo's own halves as the yardstick instead of a 2²²-photon reference, and stricter
+//! (the same point, not within 0.2 mm); whether the counts it stops at are converged is what
+//! that test measures (validation/results/convergence/README.md).
+//!
+//! Deterministic: the decisions depend only on the images, which depend only on (seed, pose),
+//! not on the thread count. The earliest stop is 2F = 2¹⁷ photons, the count from which the
+//! convergence test's column criterion holds on every shipped glass scene tested.
+
+use super::bip::{find_bip, BipRule};
+use crate::geometry::pose::Pose;
+use crate::sensor::image::Image;
+use crate::sensor::profile::Profile;
+use crate::transport::Irradiance;
+
+/// The irradiance of the newest half of a rendering of 2n photons: 2·(all 2n) − (first n), per
+/// pixel and class (each developed image is a mean over its photons). Rounding can leave a
+/// few ulps of negative light where the newest half has none; those are set to zero.
+pub fn newest_half(all: &Irradiance, first: &Irradiance) -> Irradiance {
+    let half = |a: &Image<f64>, f: &Image<f64>| {
+        let mut out = a.clone();
+        for (o, v) in out.data.iter_mut().zip(&f.data) {
+            *o = (2.0 * *o - v).max(0.0);
+        }
+        out
+    };
+    Irradiance {
+        total: half(&all.total, &first.total),
+        by_class: all
+            .by_class
+            .iter()
+            .zip(&first.by_class)
+            .map(|(a, f)| half(a, f))
+            .collect(),
+    }
+}
+
+/// The profile point (index) that the edge-line rule picks as BIP in `profile`, taken by the
+/// sensor at T_BS = `sensor`.
+pub fn bip_point(profile: &Profile, sensor: &Pose) -> Option<usize> {
+    find_bip(profile, sensor, BipRule::EdgeLine).map(|b| b.profile_index)
+}
+
+/// Whether the BIPs of the first half, the newest half and the whole agree: all the same
+/// profile point, or all absent.
+pub fn agree(bips: &[Option<usize>]) -> bool {
+    bips.windows(2).all(|w| w[0] == w[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bips_agree_when_all_are_one_profile_point_or_all_are_missing() {
+        assert!(agree(&[Some(7), Some(7), Some(7)]));
+        assert!(!agree(&[Some(7), Some(8), Some(7)]));
+        assert!(agree(&[None, None, None]));
+        assert!(!agree(&[Some(7), None, Some(7)]));
+    }
+}

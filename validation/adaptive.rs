@@ -1,0 +1,78 @@
+//! The adaptive photon count (`glassscan::scan::adaptive`): a pose that stops after n photons
+//! is the rendering of its n photons traced at once, bit for bit, for any thread count.
+
+use std::path::Path;
+
+use glassscan::scan::poses::{plan_border_scan, ScanPose};
+use glassscan::scan::simulate::{apply_lens_psf, sense_pose, simulate_pose, PoseResult};
+use glassscan::scene;
+use glassscan::sensor::SensorHead;
+use glassscan::transport::{
+    Rendering, TraceScene, TraceSettings, DEFAULT_PHOTONS, FIRST_PHOTON_SET,
+};
+
+fn on_threads(threads: usize, run: impl FnOnce() -> PoseResult + Send) -> PoseResult {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool")
+        .install(run)
+}
+
+/// The same simulation bit for bit: counters, light, image and profile (compared through their
+/// Debug text, where NaN, the range of an invalid point, equals itself).
+fn assert_same(a: &PoseResult, b: &PoseResult, what: &str) {
+    assert_eq!(a.stats, b.stats, "{what}: counters");
+    assert!(a.irradiance == b.irradiance, "{what}: irradiance");
+    assert!(a.image == b.image, "{what}: image");
+    let text = |r: &PoseResult| format!("{:?}", r.profile);
+    assert!(text(a) == text(b), "{what}: profile");
+}
+
+#[test]
+fn an_adaptive_pose_is_its_photons_traced_at_once() {
+    // edge_study_bare at 45°, the convergence test's 16 poses (examples/convergence.rs), seed
+    // 11: pose 2 stops at the first check (2^17), pose 0 takes another set (validation/
+    // results/convergence/edge_study_bare_45, the adaptive row's photons_traced).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let world = scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
+    let head = SensorHead::new(&world.sensor).unwrap();
+    let trace = TraceScene::new(&world).unwrap();
+    let mut scan = world.scan;
+    scan.scan_angle_rad = 45f64.to_radians();
+    scan.poses = 16;
+    let poses: Vec<ScanPose> =
+        plan_border_scan(&world.true_border_in_base().unwrap(), &scan, &world.mount);
+    let settings = |photons, adaptive| TraceSettings {
+        photons,
+        adaptive,
+        max_depth: 64,
+        seed: 11,
+    };
+    let mut counts = Vec::new();
+    for pose in [&poses[2], &poses[0]] {
+        let adaptive = settings(DEFAULT_PHOTONS, true);
+        let one = on_threads(1, || simulate_pose(&trace, &head, pose, &adaptive));
+        let two = on_threads(2, || simulate_pose(&trace, &head, pose, &adaptive));
+        let n = one.stats.photons;
+        // It stops after a whole set: 2^17, 2^18, … up to the most allowed.
+        assert!(n.is_power_of_two() && (2 * FIRST_PHOTON_SET..=DEFAULT_PHOTONS).contains(&n));
+        assert_same(&one, &two, &format!("pose {}, 1 and 2 threads", pose.index));
+        let at_once = settings(n, true);
+        let mut rendering =
+            Rendering::new(&trace, &head, &pose.sensor, &at_once, pose.index as u64);
+        rendering.trace_to(n);
+        let (mut light, stats) = rendering.develop();
+        apply_lens_psf(&mut light, &head, pose, at_once.seed);
+        let fixed = sense_pose(light, stats, &head, pose, &at_once);
+        assert_same(
+            &one,
+            &fixed,
+            &format!("pose {}, grown and at once", pose.index),
+        );
+        counts.push(n);
+    }
+    eprintln!("photons traced: {counts:?}");
+    assert_eq!(counts[0], 2 * FIRST_PHOTON_SET);
+    assert!(counts[1] > 2 * FIRST_PHOTON_SET, "{counts:?}");
+}
