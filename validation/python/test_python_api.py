@@ -110,6 +110,19 @@ def test_simulate_equals_scan_bit_for_bit(scan, scene, pose):
     assert len(ideal) > 500 and set(ideal["part"]) <= {"top_face", "bottom_face", "edge", "solid"}
 
 
+def test_the_adaptive_count_equals_scan_photons_auto(tmp_path, scene):
+    # `photons="auto"` is `--photons auto`: the pose stops at the same photon count, and the
+    # image is the same bit for bit.
+    cli("scan", SCENE, "--poses", 2, "--scan-angle-deg", 45, "--photons", "auto",
+        "--seed", 7, "--out", tmp_path, "--force")
+    manifest = json.loads((tmp_path / "manifest.json").read_text())["poses"][1]
+    sim = scene.simulate(1, photons="auto", seed=7)
+    assert sim.stats["photons"] == manifest["stats"]["photons"]
+    assert sim.stats["photons"] in (1 << 17, 1 << 18, 1 << 19, 1 << 20)
+    png = np.array(Image.open(tmp_path / "pose_001.png"))
+    assert np.array_equal(sim.image, png >> 6)
+
+
 def test_results_do_not_depend_on_the_thread_count(scene):
     one = scene.simulate(1, photons=PHOTONS, seed=11, threads=1)
     two = scene.simulate(1, photons=PHOTONS, seed=11, threads=2)
