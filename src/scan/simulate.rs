@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use super::adaptive::{agree, bip_point, newest_half};
+use super::adaptive::{agree, bip_points, newest_half};
 use super::poses::ScanPose;
 use crate::sampler::PoseSampler;
 use crate::sensor::diffraction::{AiryPsf, DIFFRACTION_OVERSAMPLING};
@@ -232,7 +232,7 @@ fn simulate_until_converged(
         apply_lens_psf(&mut light, head, pose, settings.seed);
         sense_pose(light, stats, head, pose, settings)
     };
-    let bip = |r: &PoseResult| bip_point(&r.profile, &pose.sensor);
+    let bip = |r: &PoseResult| bip_points(&r.profile, &pose.sensor);
     let mut rendering = Rendering::new(scene, head, &pose.sensor, settings, pose.index as u64);
     rendering.trace_to(FIRST_PHOTON_SET.min(most));
     let (mut first_n, stats) = rendering.develop();

@@ -154,16 +154,10 @@ struct PhotonSet {
 impl PhotonSets {
     /// The set of photon `i` (< total).
     fn of(&self, i: u64) -> PhotonSet {
-        let (index, start, end) = if !self.doubling || i < FIRST_PHOTON_SET {
-            (
-                0,
-                0,
-                if self.doubling {
-                    FIRST_PHOTON_SET
-                } else {
-                    self.total
-                },
-            )
+        let (index, start, end) = if !self.doubling {
+            (0, 0, self.total)
+        } else if i < FIRST_PHOTON_SET {
+            (0, 0, FIRST_PHOTON_SET)
         } else {
             // Set k ≥ 1 spans [F·2^(k−1), F·2^k).
             let k = (i / FIRST_PHOTON_SET).ilog2() + 1;
