@@ -7,6 +7,7 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glassscan::io::exr::{write_irradiance_exr, IrradianceNotes};
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::plan_border_scan;
 use glassscan::scan::simulate::simulate_pose;
 use glassscan::scene;
@@ -46,7 +47,8 @@ fn bench(c: &mut Criterion) {
             max_depth: 64,
             seed: 1,
         };
-        let irradiance = simulate_pose(&trace, &head, &pose, &settings).irradiance;
+        let irradiance =
+            simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE).irradiance;
         let raw_bytes = 4 * irradiance.total.data.len() * (1 + irradiance.by_class.len());
         g.throughput(Throughput::Bytes(raw_bytes as u64));
         g.bench_function(label, |b| {
@@ -56,5 +58,10 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+// Without plots: they need system fonts (benches/README.md).
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench
+}
 criterion_main!(benches);

@@ -80,5 +80,10 @@ fn bench_icp(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_icp);
+// Without plots: they need system fonts (benches/README.md).
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench_icp
+}
 criterion_main!(benches);

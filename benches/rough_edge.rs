@@ -74,5 +74,10 @@ fn bench_rough_edge(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_rough_edge);
+// Without plots: they need system fonts (benches/README.md).
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench_rough_edge
+}
 criterion_main!(benches);

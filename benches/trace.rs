@@ -1,11 +1,14 @@
 //! Full profiles (criterion): transport + exposure + extraction of the first scan pose with
 //! the CLI's default photon count, on `scenes/flat_opaque.toml` (opaque) and on
 //! `scenes/flat_panel.toml` scanned at 45° (glass: Fresnel splits, refraction, connections
-//! through the pane).
+//! through the pane). `converged_profile`: the issue-11 targets, the first pose of
+//! `scenes/edge_study_bare.toml` and of `scenes/car_side_window.toml` at 45°, at the converged
+//! default 2²⁰ photons and with the adaptive count (`scan::adaptive`, as `scan --photons auto`).
 
 use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::plan_border_scan;
 use glassscan::scan::simulate::simulate_pose;
 use glassscan::scene;
@@ -56,7 +59,7 @@ fn bench(c: &mut Criterion) {
         let (trace, head, pose) = first_pose(scene_file, angle);
         g.bench_function(label, |b| {
             b.iter(|| {
-                simulate_pose(&trace, &head, &pose, &settings)
+                simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE)
                     .profile
                     .points
                     .len()
@@ -64,7 +67,32 @@ fn bench(c: &mut Criterion) {
         });
     }
     g.finish();
+
+    let mut g = c.benchmark_group("converged_profile");
+    g.sample_size(10);
+    for scene_name in ["edge_study_bare", "car_side_window"] {
+        let (trace, head, pose) = first_pose(&format!("{scene_name}.toml"), Some(45.0));
+        for (label, adaptive) in [("fixed_1M_photons", false), ("auto", true)] {
+            let settings = TraceSettings {
+                adaptive,
+                ..settings
+            };
+            g.bench_function(format!("{scene_name}_45deg_pose0/{label}"), |b| {
+                b.iter(|| {
+                    simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE)
+                        .stats
+                        .photons
+                })
+            });
+        }
+    }
+    g.finish();
 }
 
-criterion_group!(benches, bench);
+// Without plots: they need system fonts (benches/README.md).
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench
+}
 criterion_main!(benches);

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::{plan_border_scan, ScanPose};
 use glassscan::scan::simulate::{apply_lens_psf, sense_pose, simulate_pose, PoseResult};
 use glassscan::scene;
@@ -52,8 +53,12 @@ fn an_adaptive_pose_is_its_photons_traced_at_once() {
     let mut counts = Vec::new();
     for pose in [&poses[2], &poses[0]] {
         let adaptive = settings(DEFAULT_PHOTONS, true);
-        let one = on_threads(1, || simulate_pose(&trace, &head, pose, &adaptive));
-        let two = on_threads(2, || simulate_pose(&trace, &head, pose, &adaptive));
+        let one = on_threads(1, || {
+            simulate_pose(&trace, &head, pose, &adaptive, StopRules::BOTH)
+        });
+        let two = on_threads(2, || {
+            simulate_pose(&trace, &head, pose, &adaptive, StopRules::BOTH)
+        });
         let n = one.stats.photons;
         // It stops after a whole set: 2^17, 2^18, … up to the most allowed.
         assert!(n.is_power_of_two() && (2 * FIRST_PHOTON_SET..=DEFAULT_PHOTONS).contains(&n));

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use glassscan::geometry::cuboid::cuboid;
 use glassscan::geometry::pose::{pose_from_mm_deg, Pose};
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::ScanPose;
 use glassscan::scan::simulate::{simulate_pose, PoseResult};
 use glassscan::scan::ScanConfig;
@@ -103,6 +104,7 @@ pub fn simulate(world: &World, photons: u64, seed: u64) -> PoseResult {
             max_depth: 16,
             seed,
         },
+        StopRules::EDGE_LINE,
     )
 }
 

@@ -3,7 +3,7 @@
 //! be told from a 2^22-photon reference on the shipped glass scenes, and a photon count known
 //! to be too low (2^14) must fail, so the test has the power to see a difference; and the
 //! adaptive count (`--photons auto`) must pass where its results say it does. Slow tier
-//! (`cargo test --release -- --ignored`, ~6 min on 2 cores for the three tests): the committed references were made
+//! (`cargo test --release -- --ignored`, ~4 min on 2 cores for the three tests): the committed references were made
 //! by `examples/convergence.rs` (which documents the seeds and poses), and must be regenerated
 //! with it when the physics or the sensor's noise streams change.
 

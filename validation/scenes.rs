@@ -2,6 +2,7 @@
 
 use std::path::Path;
 
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::plan_border_scan;
 use glassscan::scan::simulate::simulate_pose;
 use glassscan::scene;
@@ -65,7 +66,7 @@ fn flat_opaque_profile_matches_the_analytic_plate_and_table() {
     };
     let (mut top, mut table) = (Vec::new(), Vec::new());
     for pose in &poses {
-        let r = simulate_pose(&trace, &head, pose, &settings);
+        let r = simulate_pose(&trace, &head, pose, &settings, StopRules::EDGE_LINE);
         for p in r.profile.points.iter().filter(|p| p.valid) {
             let b = pose.sensor * Point3::new(p.x_mm * 1e-3, 0.0, p.z_mm * 1e-3);
             // Classify by height, away from the edge (1 mm either side) where the line bends.
@@ -141,7 +142,7 @@ fn mixed_pixels_the_selection_mode_decides_between_pane_and_background() {
     let mut count = |mode: PeakSelect| {
         world.sensor.firmware.peak_select = mode;
         let head = SensorHead::new(&world.sensor).unwrap();
-        let r = simulate_pose(&trace, &head, &pose, &settings);
+        let r = simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE);
         let n = |c: PathClass| {
             r.profile
                 .points
@@ -208,7 +209,7 @@ fn car_window_edge_line_bips_find_p_e_where_the_highest_point_does_not() {
     };
     let mut off_edge = 0;
     for pose in plan_border_scan(&border_b, &scan, &world.mount) {
-        let r = simulate_pose(&trace, &head, &pose, &settings);
+        let r = simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE);
         let edge = find_bip(&r.profile, &pose.sensor, BipRule::EdgeLine).expect("an edge BIP");
         let d = (edge.point_b - pose.edge_point).norm() * 1e3;
         eprintln!(
@@ -320,7 +321,7 @@ fn edge_study_tape_is_read_on_its_surface_at_10_and_40_degrees() {
         scan.scan_angle_rad = angle_deg.to_radians();
         scan.poses = 1;
         let pose = plan_border_scan(&border, &scan, &world.mount).remove(0);
-        let r = simulate_pose(&trace, &head, &pose, &settings);
+        let r = simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE);
         let mut distances = Vec::new();
         for p in r.profile.points.iter().filter(|p| p.valid) {
             let b = pose.sensor * Point3::new(p.x_mm * 1e-3, 0.0, p.z_mm * 1e-3);
@@ -404,7 +405,7 @@ fn edge_line_bips_land_on_p_e_on_simulated_flat_seamed_and_pencil_edges() {
             scan.scan_angle_rad = angle_deg.to_radians();
             scan.poses = 2;
             for pose in plan_border_scan(&border_b, &scan, &world.mount) {
-                let r = simulate_pose(&trace, &head, &pose, &settings);
+                let r = simulate_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE);
                 let nearest_edge_mm = r
                     .profile
                     .points
@@ -478,7 +479,7 @@ fn the_paper_scan_angle_finding_holds_at_a_short_exposure_and_not_at_the_default
         let errors: Vec<f64> = poses
             .iter()
             .map(|pose| {
-                let r = simulate_pose(&trace, &head, pose, &settings);
+                let r = simulate_pose(&trace, &head, pose, &settings, StopRules::EDGE_LINE);
                 let bip = find_bip(&r.profile, &pose.sensor, BipRule::EdgeLine)
                     .unwrap_or_else(|| panic!("{exposure_ms} ms, {angle_deg}°: no BIP"));
                 (bip.point_b - pose.edge_point).norm() * 1e3

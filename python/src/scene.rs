@@ -7,6 +7,7 @@ use glassscan::cli::embed::{self, SceneOverrides};
 use glassscan::cli::CliError;
 use glassscan::dataset::ideal_profile::ideal_profile;
 use glassscan::dataset::sample::PreparedWorld;
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::locate::laser_plane_crossing;
 use glassscan::scan::poses::{plan_border_scan, ScanPose};
 use glassscan::scan::simulate::simulate_pose;
@@ -176,7 +177,13 @@ impl Scene {
         };
         let prepared = &self.prepared;
         let work = || {
-            let result = simulate_pose(&prepared.scene, &prepared.head, scan_pose, &settings);
+            let result = simulate_pose(
+                &prepared.scene,
+                &prepared.head,
+                scan_pose,
+                &settings,
+                StopRules::EDGE_LINE,
+            );
             let ideal = ideal_profile(
                 world,
                 &prepared.scene,

@@ -46,8 +46,8 @@ pub struct DatasetArgs {
     /// readers without binary PLY).
     #[arg(long)]
     pub ply_ascii: bool,
-    /// Laser photons traced per sample (1000 to 2^40). `auto`: each sample stops once its BIP
-    /// has converged, after 2^17 to 2^20 photons.
+    /// Laser photons traced per sample (1000 to 2^40). `auto`: each sample stops once its
+    /// edge-line BIP has converged, after 2^17 to 2^20 photons.
     #[arg(long, value_name = "N|auto", default_value_t = flags::PhotonsArg::default())]
     pub photons: flags::PhotonsArg,
     #[command(flatten)]

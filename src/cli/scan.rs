@@ -9,6 +9,7 @@ use clap::Args;
 use super::manifest::{FileEntry, Manifest, PoseEntry, Summary};
 use super::{flags, progress, CliError};
 use crate::io::{exr, json, output_dir, png16, profile_csv};
+use crate::scan::adaptive::StopRules;
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::simulate_pose;
 use crate::scan::warnings::pose_warnings;
@@ -62,7 +63,7 @@ pub struct ScanArgs {
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise. `auto`:
-    /// each pose stops once its BIP has converged, after 2^17 to 2^20 photons.
+    /// each pose stops once its edge-line BIP has converged, after 2^17 to 2^20 photons.
     #[arg(long, value_name = "N|auto", default_value_t = flags::PhotonsArg::default())]
     pub photons: flags::PhotonsArg,
     #[command(flatten)]
@@ -204,7 +205,13 @@ fn execute(cfg: &RunConfig) -> Result<(), CliError> {
     let mut written = std::collections::BTreeSet::from(["manifest.json".to_string()]);
     let bar = progress::bar(poses.len() as u64, "poses", cfg.json);
     for pose in &poses {
-        let result = simulate_pose(&trace_scene, &head, pose, &cfg.settings);
+        let result = simulate_pose(
+            &trace_scene,
+            &head,
+            pose,
+            &cfg.settings,
+            StopRules::EDGE_LINE,
+        );
         let stem = format!("pose_{:03}", pose.index);
         let png = format!("{stem}.png");
         let exr_name = format!("{stem}.exr");

@@ -38,7 +38,7 @@ pub struct DatasetRun<'a> {
     pub count: u64,
     /// Laser photons per sample (with `adaptive`, the most a sample may take).
     pub photons: u64,
-    /// Whether each sample stops once its BIP has converged (`scan::adaptive`).
+    /// Whether each sample stops once its edge-line BIP has converged (`scan::adaptive`).
     pub adaptive: bool,
     /// Longest photon path.
     pub max_depth: u32,

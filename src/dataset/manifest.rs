@@ -45,7 +45,7 @@ pub struct RunInfo {
     pub count: u64,
     /// Laser photons traced per sample (with `adaptive_photons`, the most a sample may take).
     pub photons: u64,
-    /// Each sample stopped once its BIP had converged (`--photons` not given); absent (false)
+    /// Each sample stopped once its edge-line BIP had converged (`--photons` not given); absent (false)
     /// in run files written before the adaptive count existed.
     #[serde(default)]
     pub adaptive_photons: bool,

@@ -16,6 +16,7 @@ use super::randomize::{draw, Draw, Randomization};
 use super::scene_edit::SceneTemplate;
 use super::DatasetError;
 use crate::geometry::pose::Pose;
+use crate::scan::adaptive::StopRules;
 use crate::scan::locate::laser_plane_crossing;
 use crate::scan::poses::{plan_border_scan, ScanPose};
 use crate::scan::simulate::{simulate_pose, PoseResult};
@@ -55,7 +56,7 @@ pub struct SampleContext<'a> {
     pub seed: u64,
     /// Laser photons per sample (with `adaptive`, the most a sample may take).
     pub photons: u64,
-    /// Whether each sample stops once its BIP has converged (`scan::adaptive`).
+    /// Whether each sample stops once its edge-line BIP has converged (`scan::adaptive`).
     pub adaptive: bool,
     /// Longest photon path.
     pub max_depth: u32,
@@ -144,7 +145,13 @@ pub fn make_sample<'a>(ctx: &SampleContext<'a>, index: u64) -> Result<Sample<'a>
         max_depth: ctx.max_depth,
         seed: draw.noise_seed,
     };
-    let result = simulate_pose(&prepared.scene, &prepared.head, &pose, &settings);
+    let result = simulate_pose(
+        &prepared.scene,
+        &prepared.head,
+        &pose,
+        &settings,
+        StopRules::EDGE_LINE,
+    );
     let rays = world.sensor.firmware.points_per_profile;
     let ideal = ideal_profile(world, &prepared.scene, &prepared.head, &pose.sensor, rays);
     Ok(Sample {

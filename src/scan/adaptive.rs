@@ -1,15 +1,25 @@
-//! The adaptive photon count's stopping rule: a pose takes photons until its BIP stops moving.
+//! The adaptive photon count's stopping rule: a pose takes photons until its BIPs stop moving.
 //!
 //! The rendering grows by photon sets (`transport::trace::FIRST_PHOTON_SET` F = 2¹⁶, then
 //! doubling: 2F, 4F, …), each stratified over the laser fan on its own (the loop is
 //! `scan::simulate::simulate_pose` with `TraceSettings::adaptive`). After every doubling from n
 //! to 2n photons the pose is sensed three times with the same seed (the same speckle and sensor
 //! noise, so only the Monte Carlo differs): from the first n photons (A), from the newest n
-//! alone (B) and from all 2n. The pose stops when each BIP rule (the edge-line rule and the
-//! paper's highest point) picks the same profile point in all three, or none in all three, or
-//! the settings' photon count is reached. (With the edge-line rule alone, the study's 10°
-//! cells took one highest-rule BIP 60 mm off at 2¹⁷: a spurious face point that only the other
-//! rule sees.)
+//! alone (B) and from all 2n. The pose stops when each BIP rule it converges on picks the same
+//! profile point in all three, or none in all three, or the settings' photon count is reached.
+//!
+//! Which rules: those whose BIPs the command reports ([`StopRules`]). A rule that is not
+//! reported must not hold a pose back, and one that is reported must not be left unsettled:
+//! - `scan`, `dataset` and Python's `simulate` report profiles, not BIPs; they converge on the
+//!   edge-line rule, glassscan's default BIP (`StopRules::EDGE_LINE`).
+//! - `locate` registers with one rule and also reports the paper's highest point: both.
+//! - the studies tally both rules: both. (With the edge-line rule alone, the study's 10° cells
+//!   took one highest-rule BIP 60 mm off at 2¹⁷: a spurious face point only that rule sees.)
+//!
+//! On a curved pane (`car_side_window`) the highest point wanders over a plateau of face points
+//! tens of millimetres wide at every count up to 2²⁰ while the edge-line BIP stays on one point
+//! from 2¹⁷: converging on a rule that is not reported would trace such poses to the most
+//! photons for nothing.
 //!
 //! Why this test: A and B are independent estimates at n photons, so their BIPs falling on one
 //! profile point is evidence that the BIP at 2n (which averages them) is away from the knife
@@ -52,16 +62,41 @@ pub fn newest_half(all: &Irradiance, first: &Irradiance) -> Irradiance {
     }
 }
 
-/// The profile points (indices) that the two BIP rules pick in `profile`, taken by the sensor
-/// at T_BS = `sensor`: [edge-line, highest].
-pub fn bip_points(profile: &Profile, sensor: &Pose) -> [Option<usize>; 2] {
-    [BipRule::EdgeLine, BipRule::Highest]
-        .map(|rule| find_bip(profile, sensor, rule).map(|b| b.profile_index))
+/// The BIP rules whose points an adaptive pose waits for (with a fixed photon count, none
+/// are looked at).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StopRules(&'static [BipRule]);
+
+impl StopRules {
+    /// glassscan's default BIP: for commands that report profiles rather than BIPs.
+    pub const EDGE_LINE: StopRules = StopRules(&[BipRule::EdgeLine]);
+    /// The paper's highest point alone.
+    pub const HIGHEST: StopRules = StopRules(&[BipRule::Highest]);
+    /// Both rules: for commands that report both.
+    pub const BOTH: StopRules = StopRules(&[BipRule::EdgeLine, BipRule::Highest]);
+
+    /// The rules a command reports when it registers with `rule` and also reports the paper's
+    /// highest point beside it (`locate`).
+    pub fn registering_with(rule: BipRule) -> StopRules {
+        match rule {
+            BipRule::Highest => StopRules::HIGHEST,
+            BipRule::EdgeLine => StopRules::BOTH,
+        }
+    }
+
+    /// The profile points (indices) that the rules pick in `profile`, taken by the sensor at
+    /// T_BS = `sensor`, in the rules' order.
+    pub fn bip_points(self, profile: &Profile, sensor: &Pose) -> Vec<Option<usize>> {
+        self.0
+            .iter()
+            .map(|&rule| find_bip(profile, sensor, rule).map(|b| b.profile_index))
+            .collect()
+    }
 }
 
 /// Whether the BIPs of the first half, the newest half and the whole agree: for each rule,
 /// all the same profile point, or all absent.
-pub fn agree(bips: &[[Option<usize>; 2]]) -> bool {
+pub fn agree(bips: &[Vec<Option<usize>>]) -> bool {
     bips.windows(2).all(|w| w[0] == w[1])
 }
 
@@ -71,11 +106,12 @@ mod tests {
 
     #[test]
     fn bips_agree_when_all_are_one_profile_point_or_all_are_missing() {
-        let same = |a, b| [Some(a), Some(b)];
+        let same = |a, b| vec![Some(a), Some(b)];
         assert!(agree(&[same(7, 9), same(7, 9), same(7, 9)]));
         assert!(!agree(&[same(7, 9), same(8, 9), same(7, 9)]));
         assert!(!agree(&[same(7, 9), same(7, 9), same(7, 10)]));
-        assert!(agree(&[[None, Some(3)], [None, Some(3)], [None, Some(3)]]));
-        assert!(!agree(&[same(7, 9), [None, Some(9)], same(7, 9)]));
+        let absent = || vec![None, Some(3)];
+        assert!(agree(&[absent(), absent(), absent()]));
+        assert!(!agree(&[same(7, 9), vec![None, Some(9)], same(7, 9)]));
     }
 }

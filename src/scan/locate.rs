@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use nalgebra::Point3;
 
+use super::adaptive::StopRules;
 use super::bip::{find_bip, Bip, BipRule};
 use super::errors::{ErrorDraw, ErrorModel};
 use super::poses::{plan_border_scan, ScanPose};
@@ -116,6 +117,8 @@ pub fn locate(
     let draw = ErrorDraw::new(settings.errors, trace.seed);
     let range = head.config.range;
     let planned: Vec<ScanPose> = plan_border_scan(&nominal_b, scan, mount);
+    // Both BIPs it reports (the registering rule's and the paper's) settle before a pose stops.
+    let stop = StopRules::registering_with(settings.rule);
     let poses: Vec<LocatedPose> = planned
         .into_iter()
         .map(|p| {
@@ -123,7 +126,7 @@ pub fn locate(
                 sensor: draw.true_sensor_pose(&p.flange, mount, p.index),
                 ..p.clone()
             };
-            let mut result = simulate_pose(scene, head, &actual, trace);
+            let mut result = simulate_pose(scene, head, &actual, trace, stop);
             for q in result.profile.points.iter_mut().filter(|q| q.valid) {
                 q.z_mm += 1e3 * draw.linearity_error(q.z_mm * 1e-3, range.z_min_m, range.z_max_m);
             }

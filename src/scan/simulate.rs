@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use super::adaptive::{agree, bip_points, newest_half};
+use super::adaptive::{agree, newest_half, StopRules};
 use super::poses::ScanPose;
 use crate::sampler::PoseSampler;
 use crate::sensor::diffraction::{AiryPsf, DIFFRACTION_OVERSAMPLING};
@@ -155,14 +155,17 @@ fn lit_rows(image: &Image<f64>) -> Option<Range<usize>> {
 /// The light that reaches the image plane at `pose`: the traced irradiance per path class
 /// after the lens's diffraction and speckle. It does not depend on the exposure, the threshold or the peak selection, so a
 /// study that sweeps those traces each pose once and senses it many times ([`sense_pose`]).
+/// With `settings.adaptive` the pose takes photons until the BIPs of the rules `stop` settle
+/// (`scan::adaptive`), sensed with `settings`' sensor.
 pub fn trace_pose(
     scene: &TraceScene,
     head: &SensorHead,
     pose: &ScanPose,
     settings: &TraceSettings,
+    stop: StopRules,
 ) -> (Irradiance, TraceStats) {
     if settings.adaptive {
-        let r = simulate_until_converged(scene, head, pose, settings);
+        let r = simulate_until_converged(scene, head, pose, settings, stop);
         return (r.irradiance, r.stats);
     }
     let (mut irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
@@ -204,27 +207,31 @@ pub fn sense_pose(
     }
 }
 
-/// Simulates the sensor `head` at `pose`: [`trace_pose`] then [`sense_pose`].
+/// Simulates the sensor `head` at `pose`: [`trace_pose`] then [`sense_pose`]. With
+/// `settings.adaptive`, until the BIPs of the rules `stop` settle.
 pub fn simulate_pose(
     scene: &TraceScene,
     head: &SensorHead,
     pose: &ScanPose,
     settings: &TraceSettings,
+    stop: StopRules,
 ) -> PoseResult {
     if settings.adaptive {
-        return simulate_until_converged(scene, head, pose, settings);
+        return simulate_until_converged(scene, head, pose, settings, stop);
     }
-    let (irradiance, stats) = trace_pose(scene, head, pose, settings);
+    let (irradiance, stats) = trace_pose(scene, head, pose, settings, stop);
     sense_pose(irradiance, stats, head, pose, settings)
 }
 
-/// Simulates `pose` with photon sets until its BIP has converged (`scan::adaptive`) or
-/// `settings.photons` photons are traced: the result of the photons traced (`stats.photons`).
+/// Simulates `pose` with photon sets until the BIPs of the rules `stop` have converged
+/// (`scan::adaptive`) or `settings.photons` photons are traced: the result of the photons
+/// traced (`stats.photons`).
 fn simulate_until_converged(
     scene: &TraceScene,
     head: &SensorHead,
     pose: &ScanPose,
     settings: &TraceSettings,
+    stop: StopRules,
 ) -> PoseResult {
     let most = settings.photons;
     let sensed = |(light, stats): (Irradiance, TraceStats)| {
@@ -232,7 +239,7 @@ fn simulate_until_converged(
         apply_lens_psf(&mut light, head, pose, settings.seed);
         sense_pose(light, stats, head, pose, settings)
     };
-    let bip = |r: &PoseResult| bip_points(&r.profile, &pose.sensor);
+    let bip = |r: &PoseResult| stop.bip_points(&r.profile, &pose.sensor);
     let mut rendering = Rendering::new(scene, head, &pose.sensor, settings, pose.index as u64);
     rendering.trace_to(FIRST_PHOTON_SET.min(most));
     let (mut first_n, stats) = rendering.develop();

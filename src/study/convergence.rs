@@ -26,6 +26,7 @@
 use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
+use crate::scan::adaptive::StopRules;
 use crate::scan::bip::{find_bip, BipRule};
 use crate::scan::poses::ScanPose;
 use crate::scan::simulate::simulate_pose;
@@ -99,7 +100,7 @@ pub fn sample_profiles(
             seed,
         };
         for pose in poses {
-            let r = simulate_pose(trace, head, pose, &settings);
+            let r = simulate_pose(trace, head, pose, &settings, StopRules::EDGE_LINE);
             let bip = find_bip(&r.profile, &pose.sensor, BipRule::EdgeLine).map(|b| b.point_b);
             let bip_error_mm = bip.map(|b| (b - pose.edge_point).norm() * 1e3);
             let bip_mm = bip.map(|b| [b.x * 1e3, b.y * 1e3, b.z * 1e3]);

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
+use crate::scan::adaptive::StopRules;
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::{sense_pose, trace_pose};
 use crate::scan::ScanConfig;
@@ -237,7 +238,13 @@ fn run_variant(
     let mut kept = Vec::new();
     for pose in plan_border_scan(&setup.border_b, &scan, &setup.mount) {
         let frame = EdgeFrame::of_pose(&setup.border_b, &pose);
-        let (irradiance, stats) = trace_pose(&setup.scene, &setup.head, &pose, &cfg.trace);
+        let (irradiance, stats) = trace_pose(
+            &setup.scene,
+            &setup.head,
+            &pose,
+            &cfg.trace,
+            StopRules::BOTH,
+        );
         // The exposure axis: the same light, sensed again (noise keyed on the seed and pose).
         let sensed: Vec<PoseTally> = heads
             .par_iter()

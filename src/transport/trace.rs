@@ -37,7 +37,7 @@ pub const DEFAULT_PHOTONS: u64 = 1 << 20;
 pub struct TraceSettings {
     /// Laser photons per pose, ≥ 1; with `adaptive`, the most a pose may take.
     pub photons: u64,
-    /// Whether each pose stops at the first photon set after which its BIP has converged
+    /// Whether each pose stops at the first photon set after which its BIPs have converged
     /// (`scan::adaptive`; used by `scan::simulate::trace_pose`, not by `render`).
     pub adaptive: bool,
     /// Largest number of surface interactions per photon path (≥ 1), specular ones included.

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::{plan_border_scan, ScanPose};
 use glassscan::scan::simulate::{sense_pose, trace_pose};
 use glassscan::scene::world::World;
@@ -59,7 +60,7 @@ fn a_clean_line_at_f22_with_speckle_off_is_wider_than_two_pixels_and_passes_the_
     };
     let pose = identity_pose();
     let (traced, _) = render(&scene, &head, &pose.sensor, &settings, 0);
-    let (lens, stats) = trace_pose(&scene, &head, &pose, &settings);
+    let (lens, stats) = trace_pose(&scene, &head, &pose, &settings, StopRules::EDGE_LINE);
     // Expose so that the lens's line peaks at 600 DN; the traced line at the same exposure.
     let peak = lens.total.data.iter().copied().fold(0.0, f64::max);
     world.sensor.imager.exposure_s = exposure_for(&head, peak, 600.0);
@@ -237,7 +238,7 @@ fn every_pixel_and_profile_point_carries_its_path_classes_after_the_lens() {
     ] {
         let (_, trace, head, pose) = shipped_first_pose("edge_study_bare.toml", f_number, speckle);
         let (traced, _) = render(&trace, &head, &pose.sensor, &settings, pose.index as u64);
-        let (lens, stats) = trace_pose(&trace, &head, &pose, &settings);
+        let (lens, stats) = trace_pose(&trace, &head, &pose, &settings, StopRules::EDGE_LINE);
         let (err, newly_lit) = class_sum_check(&traced, &lens);
         let result = sense_pose(lens, stats, &head, &pose, &settings);
         let valid: Vec<_> = result.profile.points.iter().filter(|p| p.valid).collect();

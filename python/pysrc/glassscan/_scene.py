@@ -195,8 +195,8 @@ class Scene:
 
         Args:
             photons: laser photons traced (1000 to 2⁴⁰; 2²⁰, the default, is converged), or
-                ``"auto"``: the pose stops once its BIP has converged, after 2¹⁷ to 2²⁰
-                photons (``stats["photons"]`` says how many), as ``--photons auto``.
+                ``"auto"``: the pose stops once its edge-line BIP has converged, after 2¹⁷
+                to 2²⁰ photons (``stats["photons"]`` says how many), as ``--photons auto``.
             seed: master seed of every random number.
             max_depth: longest photon path, in surface interactions (1 to 4096).
             threads: worker threads (default: all cores); results do not depend on it.
