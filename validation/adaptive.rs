@@ -33,8 +33,8 @@ fn assert_same(a: &PoseResult, b: &PoseResult, what: &str) {
 #[test]
 fn an_adaptive_pose_is_its_photons_traced_at_once() {
     // edge_study_bare at 45°, the convergence test's 16 poses (examples/convergence.rs), seed
-    // 11: pose 2 stops at the first check (2^17), pose 0 takes another set (validation/
-    // results/convergence/edge_study_bare_45, the adaptive row's photons_traced).
+    // 11, waiting for both rules: pose 2 stops at the first check (2^17), pose 0 takes another
+    // set (validation/results/convergence/README.md, the adaptive count's tables).
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let world = scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
     let head = SensorHead::new(&world.sensor).unwrap();
@@ -75,6 +75,18 @@ fn an_adaptive_pose_is_its_photons_traced_at_once() {
             &fixed,
             &format!("pose {}, grown and at once", pose.index),
         );
+        // Waiting for fewer rules never takes more photons (a check both rules pass, the
+        // edge-line rule passes too), and at the same count it is the same simulation (these
+        // two poses: 2^17 and 2^18 with either, per the tables of both rows).
+        let edge_line = simulate_pose(&trace, &head, pose, &adaptive, StopRules::EDGE_LINE);
+        assert!(edge_line.stats.photons <= n, "pose {}", pose.index);
+        if edge_line.stats.photons == n {
+            assert_same(
+                &edge_line,
+                &one,
+                &format!("pose {}, edge-line and both", pose.index),
+            );
+        }
         counts.push(n);
     }
     eprintln!("photons traced: {counts:?}");
