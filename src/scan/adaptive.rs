@@ -72,8 +72,13 @@ impl StopRules {
     pub const EDGE_LINE: StopRules = StopRules(&[BipRule::EdgeLine]);
     /// The paper's highest point alone.
     pub const HIGHEST: StopRules = StopRules(&[BipRule::Highest]);
-    /// Both rules: for commands that report both.
+    /// Both rules: `locate` registering with the edge-line rule.
     pub const BOTH: StopRules = StopRules(&[BipRule::EdgeLine, BipRule::Highest]);
+
+    /// Waits for `rules`: those a command reports (a study: the rules it tallies).
+    pub const fn of(rules: &'static [BipRule]) -> StopRules {
+        StopRules(rules)
+    }
 
     /// The rules a command reports when it registers with `rule` and also reports the paper's
     /// highest point beside it (`locate`).

@@ -22,7 +22,6 @@ use super::edge_frame::EdgeFrame;
 use super::tally::{PoseTally, RuleSummary};
 use crate::dataset::randomize::Param;
 use crate::dataset::scene_edit::SceneTemplate;
-use crate::scan::adaptive::StopRules;
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::{sense_pose, trace_pose};
 use crate::scan::ScanConfig;
@@ -127,7 +126,7 @@ pub fn run_finding_map(
                 for pose in plan_border_scan(&border_b, &scan, &world.mount) {
                     let frame = EdgeFrame::of_pose(&border_b, &pose);
                     let (irradiance, stats) =
-                        trace_pose(&scene, &head, &pose, &cfg.trace, StopRules::BOTH);
+                        trace_pose(&scene, &head, &pose, &cfg.trace, super::tally::STOP_RULES);
                     let sensed: Vec<PoseTally> = heads
                         .par_iter()
                         .map(|h| {

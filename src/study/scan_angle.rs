@@ -14,7 +14,6 @@ use rayon::prelude::*;
 
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
-use crate::scan::adaptive::StopRules;
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::{sense_pose, trace_pose};
 use crate::scan::ScanConfig;
@@ -243,7 +242,7 @@ fn run_variant(
             &setup.head,
             &pose,
             &cfg.trace,
-            StopRules::BOTH,
+            super::tally::STOP_RULES,
         );
         // The exposure axis: the same light, sensed again (noise keyed on the seed and pose).
         let sensed: Vec<PoseTally> = heads

@@ -17,7 +17,6 @@ use super::grid::{Cell, SweepGrid};
 use super::tally::{PoseTally, RuleSummary};
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
-use crate::scan::adaptive::StopRules;
 use crate::scan::poses::plan_border_scan;
 use crate::scan::simulate::{sense_pose, trace_pose};
 use crate::scan::ScanConfig;
@@ -102,7 +101,8 @@ pub fn run_sweep(
         let mut tallies: Vec<Vec<PoseTally>> = vec![Vec::with_capacity(scan.poses); heads.len()];
         for pose in plan_border_scan(border_b, &scan, mount) {
             let frame = EdgeFrame::of_pose(border_b, &pose);
-            let (irradiance, stats) = trace_pose(scene, base, &pose, trace, StopRules::BOTH);
+            let (irradiance, stats) =
+                trace_pose(scene, base, &pose, trace, super::tally::STOP_RULES);
             let sensed: Vec<PoseTally> = heads
                 .par_iter()
                 .map(|head| {

@@ -7,12 +7,16 @@ use serde::Serialize;
 use super::edge_frame::EdgeFrame;
 use super::wrong_surface::count_wrong_surface;
 use crate::localise::metrics::Stats;
+use crate::scan::adaptive::StopRules;
 use crate::scan::bip::{find_bip, BipRule};
 use crate::scan::simulate::PoseResult;
 use crate::sensor::path_class::PathClass;
 
 /// The BIP rules every study compares: the paper's highest point, then our edge-line variant.
 pub const RULES: [BipRule; 2] = [BipRule::Highest, BipRule::EdgeLine];
+
+/// With the adaptive count a study's pose waits for the BIPs of every rule it tallies.
+pub const STOP_RULES: StopRules = StopRules::of(&RULES);
 
 /// The BIP one rule picked at one pose.
 #[derive(Clone, Copy, Debug, PartialEq)]
