@@ -3,7 +3,9 @@
 //! `scenes/flat_panel.toml` scanned at 45° (glass: Fresnel splits, refraction, connections
 //! through the pane). `converged_profile`: the issue-11 targets, the first pose of
 //! `scenes/edge_study_bare.toml` and of `scenes/car_side_window.toml` at 45°, at the converged
-//! default 2²⁰ photons and with the adaptive count (`scan::adaptive`, as `scan --photons auto`).
+//! default count (`transport::DEFAULT_PHOTONS`, 2¹⁸ with the photons focused on the edge), at
+//! 2²⁰ (the default before the focus) and with the adaptive count (`scan::adaptive`, as
+//! `scan --photons auto`).
 
 use std::path::Path;
 
@@ -13,7 +15,7 @@ use glassscan::scan::poses::plan_border_scan;
 use glassscan::scan::simulate::simulate_pose;
 use glassscan::scene;
 use glassscan::sensor::SensorHead;
-use glassscan::transport::{TraceScene, TraceSettings};
+use glassscan::transport::{TraceScene, TraceSettings, DEFAULT_PHOTONS};
 
 /// The first scan pose of a shipped scene, optionally at another scan angle.
 fn first_pose(
@@ -72,8 +74,13 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10);
     for scene_name in ["edge_study_bare", "car_side_window"] {
         let (trace, head, pose) = first_pose(&format!("{scene_name}.toml"), Some(45.0));
-        for (label, adaptive) in [("fixed_1M_photons", false), ("auto", true)] {
+        for (label, photons, adaptive) in [
+            ("default_photons", DEFAULT_PHOTONS, false),
+            ("fixed_1M_photons", 1 << 20, false),
+            ("auto", DEFAULT_PHOTONS, true),
+        ] {
             let settings = TraceSettings {
+                photons,
                 adaptive,
                 ..settings
             };

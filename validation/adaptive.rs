@@ -5,12 +5,12 @@ use std::path::Path;
 
 use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::poses::{plan_border_scan, ScanPose};
-use glassscan::scan::simulate::{apply_lens_psf, sense_pose, simulate_pose, PoseResult};
+use glassscan::scan::simulate::{
+    apply_lens_psf, pose_rendering, sense_pose, simulate_pose, PoseResult,
+};
 use glassscan::scene;
 use glassscan::sensor::SensorHead;
-use glassscan::transport::{
-    Rendering, TraceScene, TraceSettings, DEFAULT_PHOTONS, FIRST_PHOTON_SET,
-};
+use glassscan::transport::{TraceScene, TraceSettings, DEFAULT_PHOTONS, FIRST_PHOTON_SET};
 
 fn on_threads(threads: usize, run: impl FnOnce() -> PoseResult + Send) -> PoseResult {
     rayon::ThreadPoolBuilder::new()
@@ -33,8 +33,9 @@ fn assert_same(a: &PoseResult, b: &PoseResult, what: &str) {
 #[test]
 fn an_adaptive_pose_is_its_photons_traced_at_once() {
     // edge_study_bare at 45°, the convergence test's 16 poses (examples/convergence.rs), seed
-    // 11, waiting for both rules: pose 2 stops at the first check (2^17), pose 0 takes another
-    // set (validation/results/convergence/README.md, the adaptive count's tables).
+    // 11, waiting for the edge-line rule as `scan` does: pose 1 stops at the first check
+    // (2^17), pose 0 takes another set (to the default 2^18; with the photons focused on p_e,
+    // measured when the default became 2^18).
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let world = scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
     let head = SensorHead::new(&world.sensor).unwrap();
@@ -51,21 +52,20 @@ fn an_adaptive_pose_is_its_photons_traced_at_once() {
         seed: 11,
     };
     let mut counts = Vec::new();
-    for pose in [&poses[2], &poses[0]] {
+    for pose in [&poses[1], &poses[0]] {
         let adaptive = settings(DEFAULT_PHOTONS, true);
         let one = on_threads(1, || {
-            simulate_pose(&trace, &head, pose, &adaptive, StopRules::BOTH)
+            simulate_pose(&trace, &head, pose, &adaptive, StopRules::EDGE_LINE)
         });
         let two = on_threads(2, || {
-            simulate_pose(&trace, &head, pose, &adaptive, StopRules::BOTH)
+            simulate_pose(&trace, &head, pose, &adaptive, StopRules::EDGE_LINE)
         });
         let n = one.stats.photons;
         // It stops after a whole set: 2^17, 2^18, … up to the most allowed.
         assert!(n.is_power_of_two() && (2 * FIRST_PHOTON_SET..=DEFAULT_PHOTONS).contains(&n));
         assert_same(&one, &two, &format!("pose {}, 1 and 2 threads", pose.index));
         let at_once = settings(n, true);
-        let mut rendering =
-            Rendering::new(&trace, &head, &pose.sensor, &at_once, pose.index as u64);
+        let mut rendering = pose_rendering(&trace, &head, pose, &at_once);
         rendering.trace_to(n);
         let (mut light, stats) = rendering.develop();
         apply_lens_psf(&mut light, &head, pose, at_once.seed);
@@ -75,14 +75,14 @@ fn an_adaptive_pose_is_its_photons_traced_at_once() {
             &fixed,
             &format!("pose {}, grown and at once", pose.index),
         );
-        // Waiting for fewer rules never takes more photons (a check both rules pass, the
-        // edge-line rule passes too), and at the same count it is the same simulation (these
-        // two poses: 2^17 and 2^18 with either, per the tables of both rows).
-        let edge_line = simulate_pose(&trace, &head, pose, &adaptive, StopRules::EDGE_LINE);
-        assert!(edge_line.stats.photons <= n, "pose {}", pose.index);
-        if edge_line.stats.photons == n {
+        // Waiting for more rules never takes fewer photons (a check both rules pass, the
+        // edge-line rule passes too), and at the same count it is the same simulation (here
+        // both rules take both poses to 2^18: the highest point moves between halves).
+        let both = simulate_pose(&trace, &head, pose, &adaptive, StopRules::BOTH);
+        assert!(both.stats.photons >= n, "pose {}", pose.index);
+        if both.stats.photons == n {
             assert_same(
-                &edge_line,
+                &both,
                 &one,
                 &format!("pose {}, edge-line and both", pose.index),
             );

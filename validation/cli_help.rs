@@ -119,7 +119,7 @@ fn override_flags_say_their_default() {
             "--exposure-ms",
             "overrides [sensor].exposure_ms. Default: the scene's (0.5 in edge_study",
         ),
-        ("--photons", "[default: 1048576]"),
+        ("--photons", "[default: 262144]"),
     ] {
         let from = help
             .find(&format!("      {flag} "))

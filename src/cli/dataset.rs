@@ -47,7 +47,7 @@ pub struct DatasetArgs {
     #[arg(long)]
     pub ply_ascii: bool,
     /// Laser photons traced per sample (1000 to 2^40). `auto`: each sample stops once its
-    /// edge-line BIP has converged, after 2^17 to 2^20 photons.
+    /// edge-line BIP has converged, after 2^17 or 2^18 photons (the default count).
     #[arg(long, value_name = "N|auto", default_value_t = flags::PhotonsArg::default())]
     pub photons: flags::PhotonsArg,
     #[command(flatten)]

@@ -10,7 +10,7 @@ use crate::limits::{MAX_DEPTH, MAX_PHOTONS, MAX_POSES, MIN_PHOTONS};
 pub struct LightArgs {
     /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise. `auto`:
     /// each pose stops once the BIPs the command reports have converged (locate: its rule's
-    /// and the highest point's; studies: both rules), after 2^17 to 2^20 photons.
+    /// and the highest point's; studies: both rules), after 2^17 or 2^18 photons (the default count).
     #[arg(long, value_name = "N|auto", default_value_t = PhotonsArg::default())]
     pub photons: PhotonsArg,
     /// Master seed of all random numbers (light, sensor noise, error draws).

@@ -63,7 +63,7 @@ pub struct ScanArgs {
     #[arg(long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Laser photons traced per pose (1000 to 2^40); more means less Monte Carlo noise. `auto`:
-    /// each pose stops once its edge-line BIP has converged, after 2^17 to 2^20 photons.
+    /// each pose stops once its edge-line BIP has converged, after 2^17 or 2^18 photons (the default count).
     #[arg(long, value_name = "N|auto", default_value_t = flags::PhotonsArg::default())]
     pub photons: flags::PhotonsArg,
     #[command(flatten)]

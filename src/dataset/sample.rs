@@ -145,10 +145,16 @@ pub fn make_sample<'a>(ctx: &SampleContext<'a>, index: u64) -> Result<Sample<'a>
         max_depth: ctx.max_depth,
         seed: draw.noise_seed,
     };
+    // Simulated looking at the true border's p_e (where the transport draws its photons more
+    // densely); the sample keeps the planned pose.
+    let looking = ScanPose {
+        edge_point: edge_point.unwrap_or(pose.edge_point),
+        ..pose.clone()
+    };
     let result = simulate_pose(
         &prepared.scene,
         &prepared.head,
-        &pose,
+        &looking,
         &settings,
         StopRules::EDGE_LINE,
     );

@@ -122,15 +122,19 @@ pub fn locate(
     let poses: Vec<LocatedPose> = planned
         .into_iter()
         .map(|p| {
+            let sensor = draw.true_sensor_pose(&p.flange, mount, p.index);
+            let edge_point = laser_plane_crossing(&true_b, &sensor, scan.standoff_m);
+            // The sensor at its true pose, looking at the true border's p_e (where the
+            // transport draws its photons more densely).
             let actual = ScanPose {
-                sensor: draw.true_sensor_pose(&p.flange, mount, p.index),
+                sensor,
+                edge_point: edge_point.unwrap_or(p.edge_point),
                 ..p.clone()
             };
             let mut result = simulate_pose(scene, head, &actual, trace, stop);
             for q in result.profile.points.iter_mut().filter(|q| q.valid) {
                 q.z_mm += 1e3 * draw.linearity_error(q.z_mm * 1e-3, range.z_min_m, range.z_max_m);
             }
-            let edge_point = laser_plane_crossing(&true_b, &actual.sensor, scan.standoff_m);
             let bip = find_bip(&result.profile, &p.sensor, settings.rule);
             let paper_bip = match settings.rule {
                 BipRule::Highest => bip,

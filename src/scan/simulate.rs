@@ -14,8 +14,9 @@ use crate::sensor::path_class::PathClass;
 use crate::sensor::profile::{extract, Profile};
 use crate::sensor::speckle::speckle_image;
 use crate::sensor::SensorHead;
+use crate::transport::fan_focus::{FanFocus, FOCUS_HALF_WIDTH_M, FOCUS_SHARE};
 use crate::transport::{
-    render, Irradiance, Rendering, TraceScene, TraceSettings, TraceStats, FIRST_PHOTON_SET,
+    Irradiance, Rendering, TraceScene, TraceSettings, TraceStats, FIRST_PHOTON_SET,
 };
 
 /// Everything the sensor produced at one pose.
@@ -168,7 +169,9 @@ pub fn trace_pose(
         let r = simulate_until_converged(scene, head, pose, settings, stop);
         return (r.irradiance, r.stats);
     }
-    let (mut irradiance, stats) = render(scene, head, &pose.sensor, settings, pose.index as u64);
+    let mut rendering = pose_rendering(scene, head, pose, settings);
+    rendering.trace_to(settings.photons);
+    let (mut irradiance, stats) = rendering.develop();
     apply_lens_psf(&mut irradiance, head, pose, settings.seed);
     (irradiance, stats)
 }
@@ -207,6 +210,24 @@ pub fn sense_pose(
     }
 }
 
+/// The pose's rendering, its photons drawn more densely around the border point p_e
+/// (`pose.edge_point`; `transport::fan_focus`): what [`trace_pose`] and [`simulate_pose`]
+/// trace.
+pub fn pose_rendering<'a>(
+    scene: &'a TraceScene,
+    head: &'a SensorHead,
+    pose: &'a ScanPose,
+    settings: &'a TraceSettings,
+) -> Rendering<'a> {
+    let focus = FanFocus::toward(
+        &head.config.laser,
+        &(pose.sensor.inverse() * pose.edge_point),
+        FOCUS_HALF_WIDTH_M,
+        FOCUS_SHARE,
+    );
+    Rendering::new(scene, head, &pose.sensor, settings, pose.index as u64).with_focus(focus)
+}
+
 /// Simulates the sensor `head` at `pose`: [`trace_pose`] then [`sense_pose`]. With
 /// `settings.adaptive`, until the BIPs of the rules `stop` settle.
 pub fn simulate_pose(
@@ -240,7 +261,7 @@ fn simulate_until_converged(
         sense_pose(light, stats, head, pose, settings)
     };
     let bip = |r: &PoseResult| stop.bip_points(&r.profile, &pose.sensor);
-    let mut rendering = Rendering::new(scene, head, &pose.sensor, settings, pose.index as u64);
+    let mut rendering = pose_rendering(scene, head, pose, settings);
     rendering.trace_to(FIRST_PHOTON_SET.min(most));
     let (mut first_n, stats) = rendering.develop();
     let mut result = sensed((first_n.clone(), stats));

@@ -114,6 +114,23 @@ impl LaserSheet {
         }
     }
 
+    /// The fraction of the laser's power between the fan's edge at −half the fan angle and the
+    /// fan angle `phi` (rad): the CDF of the line profile, inverse of [`LaserSheet::fan_angle`],
+    /// clamped to [0, 1] outside the fan.
+    pub fn fan_fraction(&self, phi: f64) -> f64 {
+        let half = 0.5 * self.fan_angle_rad;
+        let u = match self.line_profile {
+            LineProfile::Uniform => 0.5 * (phi.tan() / half.tan() + 1.0),
+            LineProfile::Gaussian { half_angle_1e2_rad } => {
+                let sigma = 0.5 * half_angle_1e2_rad;
+                let lo = normal_cdf(-half / sigma);
+                let hi = normal_cdf(half / sigma);
+                (normal_cdf(phi / sigma) - lo) / (hi - lo)
+            }
+        };
+        u.clamp(0.0, 1.0)
+    }
+
     /// Samples one laser ray from four uniforms: `u[0]` → fan angle, `u[1]` → the transverse
     /// position at the waist, `u[2]` → the transverse angle (each by the inverse normal CDF, so
     /// well-spread uniforms give well-spread offsets), `u[3]` unused (kept so the dimension

@@ -30,6 +30,7 @@
 
 pub mod connect;
 pub mod deviation;
+pub mod fan_focus;
 pub mod film;
 pub mod interaction;
 pub mod layered;

@@ -4,6 +4,7 @@ use nalgebra::{Point3, Vector3};
 use rayon::prelude::*;
 
 use super::connect::{connect, VertexOnSurface};
+use super::fan_focus::FanFocus;
 use super::film::{Film, Irradiance, Splat};
 use super::interaction::{scatter_rough, scatter_smooth, RoughVertex, SmoothOutcome};
 use super::lens::Aperture;
@@ -29,8 +30,9 @@ const FAR_M: f64 = 100.0;
 
 /// The photon count per pose that every command (and the Python package) uses unless told
 /// otherwise: the smallest power of two that passes the convergence test of
-/// `study::convergence` on the shipped glass scenes (validation/results/convergence/).
-pub const DEFAULT_PHOTONS: u64 = 1 << 20;
+/// `study::convergence` on the shipped glass scenes (validation/results/convergence/), with
+/// the photons focused on the edge (`transport::fan_focus`; 2²⁰ without).
+pub const DEFAULT_PHOTONS: u64 = 1 << 18;
 
 /// Settings of one rendering.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -112,6 +114,15 @@ impl TraceStats {
 /// from the region the camera looks at (`Aperture::far_from_view`): 50 mm, beyond what the
 /// camera sees of the laser plane's neighbourhood through its lens at the triangulation angle.
 const ROULETTE_MARGIN_M: f64 = 0.05;
+
+/// The roulette's margin for a photon that has been reflected inside glass: 10 mm. Light the
+/// rough edge scatters into a pane is mostly trapped by total internal reflection and runs
+/// away from the laser plane, a few millimetres per bounce; what it can still give the camera
+/// is the faint glow of face imperfections, seen defocused off the laser plane. With the fan's
+/// photons focused on the edge (`transport::fan_focus`) such paths made 3 total internal
+/// reflections per photon at the 50 mm margin; at 10 mm the convergence test on the pane at
+/// 45° gave the same verdicts and column errors (benches/README.md, 2026-12-04).
+const TRAPPED_ROULETTE_MARGIN_M: f64 = 0.01;
 
 /// The survival probability of that roulette: a survivor carries 8× its flux, so a rare one
 /// that comes back into view adds a small spike, not a firefly.
@@ -225,6 +236,8 @@ pub struct Rendering<'a> {
     film: Film,
     stats: TraceStats,
     traced: u64,
+    /// Where the fan's photons are drawn more densely (`None`: the line profile alone).
+    focus: Option<FanFocus>,
 }
 
 impl<'a> Rendering<'a> {
@@ -249,7 +262,14 @@ impl<'a> Rendering<'a> {
             film: Film::new(spec.columns, spec.rows),
             stats: TraceStats::default(),
             traced: 0,
+            focus: None,
         }
+    }
+
+    /// The same rendering with the fan's photons drawn by `focus` (`transport::fan_focus`):
+    /// the same images in the mean, less Monte Carlo noise in the focus window, more elsewhere.
+    pub fn with_focus(self, focus: Option<FanFocus>) -> Self {
+        Rendering { focus, ..self }
     }
 
     /// Photons traced so far.
@@ -291,6 +311,7 @@ impl<'a> Rendering<'a> {
                         settings: self.settings,
                         sampler: &self.sampler,
                         sets,
+                        focus: self.focus,
                         pose_index: self.pose_index,
                         splats: Vec::new(),
                         stats: TraceStats::default(),
@@ -370,6 +391,7 @@ struct Tracer<'a> {
     settings: &'a TraceSettings,
     sampler: &'a PoseSampler,
     sets: PhotonSets,
+    focus: Option<FanFocus>,
     /// Keys the rough edge's microsurface walks with the seed and the photon.
     pose_index: u64,
     splats: Vec<Splat>,
@@ -386,6 +408,7 @@ impl Tracer<'_> {
         let set = self.sets.of(i);
         let k = i - set.start;
         let fan_u = (k as f64 + self.sampler.uniform(i, 0)) / set.size as f64;
+        let (fan_u, focus_weight) = self.focus.map_or((fan_u, 1.0), |f| f.warp(fan_u));
         let [b1, b2, l1, l2] = self.sampler.lattice4(k, set.index);
         let ray = laser.sample_ray([fan_u, b1, b2, 0.0]);
         let dir = pose.rotation * ray.direction;
@@ -401,7 +424,7 @@ impl Tracer<'_> {
             leaving: None,
             dir,
             // As if it were the only photon: `Rendering::develop` divides by the count.
-            flux: ray.weight * laser.power_w,
+            flux: ray.weight * focus_weight * laser.power_w,
             stokes,
             all_specular: true,
             crossed_glass: false,
@@ -433,7 +456,12 @@ impl Tracer<'_> {
             // ROULETTE_SURVIVAL and its flux divided by it, so every estimate keeps its mean
             // (Arvo & Kirk, "Particle transport and image synthesis", SIGGRAPH 1990). Its own
             // keyed stream leaves every other random number as it was.
-            if !photon.rouletted && self.aperture.far_from_view(&hit.point, ROULETTE_MARGIN_M) {
+            let margin = if photon.internal_reflection {
+                TRAPPED_ROULETTE_MARGIN_M
+            } else {
+                ROULETTE_MARGIN_M
+            };
+            if !photon.rouletted && self.aperture.far_from_view(&hit.point, margin) {
                 photon.rouletted = true;
                 let u = KeyedStream::new(&[
                     self.settings.seed,

@@ -118,7 +118,7 @@ def test_the_adaptive_count_equals_scan_photons_auto(tmp_path, scene):
     manifest = json.loads((tmp_path / "manifest.json").read_text())["poses"][1]
     sim = scene.simulate(1, photons="auto", seed=7)
     assert sim.stats["photons"] == manifest["stats"]["photons"]
-    assert sim.stats["photons"] in (1 << 17, 1 << 18, 1 << 19, 1 << 20)
+    assert sim.stats["photons"] in (1 << 17, 1 << 18)
     png = np.array(Image.open(tmp_path / "pose_001.png"))
     assert np.array_equal(sim.image, png >> 6)
 

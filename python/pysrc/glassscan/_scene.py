@@ -194,9 +194,9 @@ class Scene:
         ``pose_NNN``, for any thread count. Releases the GIL while it runs.
 
         Args:
-            photons: laser photons traced (1000 to 2⁴⁰; 2²⁰, the default, is converged), or
+            photons: laser photons traced (1000 to 2⁴⁰; 2¹⁸, the default, is converged), or
                 ``"auto"``: the pose stops once its edge-line BIP has converged, after 2¹⁷
-                to 2²⁰ photons (``stats["photons"]`` says how many), as ``--photons auto``.
+                or 2¹⁸ photons (``stats["photons"]`` says how many), as ``--photons auto``.
             seed: master seed of every random number.
             max_depth: longest photon path, in surface interactions (1 to 4096).
             threads: worker threads (default: all cores); results do not depend on it.
