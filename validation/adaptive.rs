@@ -1,16 +1,13 @@
 //! The adaptive photon count (`glassscan::scan::adaptive`): a pose that stops after n photons
 //! is the rendering of its n photons traced at once, bit for bit, for any thread count.
 
-use std::path::Path;
-
 use glassscan::scan::adaptive::StopRules;
-use glassscan::scan::poses::{plan_border_scan, ScanPose};
 use glassscan::scan::simulate::{
     apply_lens_psf, pose_rendering, sense_pose, simulate_pose, PoseResult,
 };
-use glassscan::scene;
-use glassscan::sensor::SensorHead;
-use glassscan::transport::{TraceScene, TraceSettings, DEFAULT_PHOTONS, FIRST_PHOTON_SET};
+use glassscan::transport::{TraceSettings, DEFAULT_PHOTONS, FIRST_PHOTON_SET};
+
+use crate::common::{shipped_scan, ShippedScan};
 
 fn on_threads(threads: usize, run: impl FnOnce() -> PoseResult + Send) -> PoseResult {
     rayon::ThreadPoolBuilder::new()
@@ -36,15 +33,7 @@ fn an_adaptive_pose_is_its_photons_traced_at_once() {
     // 11, waiting for the edge-line rule as `scan` does: pose 1 stops at the first check
     // (2^17), pose 0 takes another set (to the default 2^18; with the photons focused on p_e,
     // measured when the default became 2^18).
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let world = scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
-    let head = SensorHead::new(&world.sensor).unwrap();
-    let trace = TraceScene::new(&world).unwrap();
-    let mut scan = world.scan;
-    scan.scan_angle_rad = 45f64.to_radians();
-    scan.poses = 16;
-    let poses: Vec<ScanPose> =
-        plan_border_scan(&world.true_border_in_base().unwrap(), &scan, &world.mount);
+    let ShippedScan { head, trace, poses } = shipped_scan("edge_study_bare.toml", 45.0, 16);
     let settings = |photons, adaptive| TraceSettings {
         photons,
         adaptive,

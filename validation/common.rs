@@ -190,3 +190,28 @@ pub fn line_band(img: &glassscan::sensor::image::Image<f64>, column: usize, row:
         .map(|k| img.get(column, k))
         .sum()
 }
+
+/// A shipped scene ready to trace at `poses` border poses at `scan_angle_deg` (the scene's own
+/// scan otherwise), planned on the true border as `glassscan scan` plans them.
+pub struct ShippedScan {
+    pub head: SensorHead,
+    pub trace: TraceScene,
+    pub poses: Vec<ScanPose>,
+}
+
+/// Loads `scenes/NAME` and plans its scan ([`ShippedScan`]).
+pub fn shipped_scan(name: &str, scan_angle_deg: f64, poses: usize) -> ShippedScan {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let world = glassscan::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let mut scan = world.scan;
+    scan.scan_angle_rad = scan_angle_deg.to_radians();
+    scan.poses = poses;
+    let border = world.true_border_in_base().expect("the scene has a target");
+    ShippedScan {
+        head: SensorHead::new(&world.sensor).unwrap(),
+        trace: TraceScene::new(&world).unwrap(),
+        poses: glassscan::scan::poses::plan_border_scan(&border, &scan, &world.mount),
+    }
+}

@@ -9,11 +9,10 @@
 
 use std::path::Path;
 
-use glassscan::scan::poses::plan_border_scan;
-use glassscan::scene;
-use glassscan::sensor::SensorHead;
 use glassscan::study::convergence::{judge, sample_profiles, ProfileSample, Verdict};
-use glassscan::transport::{TraceScene, DEFAULT_PHOTONS};
+use glassscan::transport::DEFAULT_PHOTONS;
+
+use crate::common::{shipped_scan, ShippedScan};
 
 /// The example's settings (examples/convergence.rs).
 const POSES: usize = 16;
@@ -31,14 +30,7 @@ fn verdict(scene_name: &str, angle_deg: f64, results: &str, budget: (u64, bool))
     .expect("the committed reference (examples/convergence.rs makes it)");
     let (reference, reference_other): (Vec<ProfileSample>, Vec<ProfileSample>) =
         serde_json::from_str(&text).unwrap();
-    let world = scene::load(&root.join("scenes").join(scene_name)).unwrap();
-    let head = SensorHead::new(&world.sensor).unwrap();
-    let trace = TraceScene::new(&world).unwrap();
-    let border_b = world.true_border_in_base().expect("the scene has a target");
-    let mut scan = world.scan;
-    scan.scan_angle_rad = angle_deg.to_radians();
-    scan.poses = POSES;
-    let poses = plan_border_scan(&border_b, &scan, &world.mount);
+    let ShippedScan { head, trace, poses } = shipped_scan(scene_name, angle_deg, POSES);
     let same = sample_profiles(&trace, &head, &poses, &SEEDS_A, budget, MAX_DEPTH);
     let independent = sample_profiles(&trace, &head, &poses, &SEEDS_C, budget, MAX_DEPTH);
     let v = judge(&reference, &reference_other, &same, &independent);

@@ -105,10 +105,7 @@ impl LaserSheet {
         match self.line_profile {
             LineProfile::Uniform => ((2.0 * u - 1.0) * half.tan()).atan(),
             LineProfile::Gaussian { half_angle_1e2_rad } => {
-                // Intensity ∝ exp(−2φ²/h²): a normal law with σ = h/2, truncated to the fan.
-                let sigma = 0.5 * half_angle_1e2_rad;
-                let lo = normal_cdf(-half / sigma);
-                let hi = normal_cdf(half / sigma);
+                let (sigma, lo, hi) = truncated_normal(half_angle_1e2_rad, half);
                 sigma * normal_quantile(lo + u * (hi - lo))
             }
         }
@@ -122,9 +119,7 @@ impl LaserSheet {
         let u = match self.line_profile {
             LineProfile::Uniform => 0.5 * (phi.tan() / half.tan() + 1.0),
             LineProfile::Gaussian { half_angle_1e2_rad } => {
-                let sigma = 0.5 * half_angle_1e2_rad;
-                let lo = normal_cdf(-half / sigma);
-                let hi = normal_cdf(half / sigma);
+                let (sigma, lo, hi) = truncated_normal(half_angle_1e2_rad, half);
                 (normal_cdf(phi / sigma) - lo) / (hi - lo)
             }
         };
@@ -163,6 +158,14 @@ impl LaserSheet {
             weight,
         }
     }
+}
+
+/// A Gaussian line of 1/e² half-angle `half_angle_1e2_rad` (intensity ∝ exp(−2φ²/h²): a
+/// normal law with σ = h/2) truncated to the fan's ±`half`: σ and the normal CDF at −half and
+/// +half.
+fn truncated_normal(half_angle_1e2_rad: f64, half: f64) -> (f64, f64, f64) {
+    let sigma = 0.5 * half_angle_1e2_rad;
+    (sigma, normal_cdf(-half / sigma), normal_cdf(half / sigma))
 }
 
 #[cfg(test)]

@@ -156,22 +156,20 @@ fn photons_focused_on_the_edge_keep_every_columns_mean_light() {
     // columns, inside the focus window and away from it, and less Monte Carlo error inside it.
     // edge_study_bare at 45°, one pose, 8 seeds per estimator; bands of 40 columns, each band's
     // light compared by a z-test on the two means (Šidák over the bands, family-wise 1 %).
-    use glassscan::scan::poses::plan_border_scan;
     use glassscan::scan::simulate::pose_rendering;
     use glassscan::transport::fan_focus::FOCUS_HALF_WIDTH_M;
-    use glassscan::transport::{Rendering, TraceScene, TraceSettings};
+    use glassscan::transport::{Rendering, TraceSettings};
+
+    use crate::common::{shipped_scan, ShippedScan};
 
     use crate::stats::{mean_and_error, sidak, z_test};
 
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let world = glassscan::scene::load(&root.join("scenes/edge_study_bare.toml")).unwrap();
-    let head = SensorHead::new(&world.sensor).unwrap();
-    let scene = TraceScene::new(&world).unwrap();
-    let mut scan = world.scan;
-    scan.scan_angle_rad = 45f64.to_radians();
-    scan.poses = 4;
-    let pose =
-        plan_border_scan(&world.true_border_in_base().unwrap(), &scan, &world.mount).swap_remove(1);
+    let ShippedScan {
+        head,
+        trace: scene,
+        mut poses,
+    } = shipped_scan("edge_study_bare.toml", 45.0, 4);
+    let pose = poses.swap_remove(1);
     // The focus window's columns: p_e ± the window's half-width along the line.
     let p = pose.sensor.inverse() * pose.edge_point;
     let column = |x: f64| head.camera.laser_plane_to_pixel(x, p.z).unwrap()[0] as usize;
