@@ -185,6 +185,62 @@ fn study_scan_angle_runs_without_missing_variants_and_says_so() {
     assert!(j["sweep"].as_array().unwrap().is_empty());
 }
 
+/// A small study's JSON and CSV tables, run on `threads` threads: two positions, so its poses
+/// run side by side (`study::side_by_side`), in the edge plot, the sweep and the finding map.
+fn small_study(threads: &str) -> (Value, Vec<(String, String)>) {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("study");
+    let args = [
+        "study",
+        "scan-angle",
+        "scenes/edge_study.toml",
+        "--angles-deg",
+        "40",
+        "--positions",
+        "2",
+        "--sweep-deg",
+        "20:40:20",
+        "--exposures-ms",
+        "0.15,0.5",
+        "--map-arris-mm",
+        "0.8",
+        "--map-roughness",
+        "0.3",
+        "--map-positions",
+        "2",
+        "--photons",
+        "16384",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ];
+    let mut j = json_of(&glassscan(&args, Some(threads)));
+    let o = j.as_object_mut().unwrap();
+    o.remove("elapsed_s");
+    o.remove("files");
+    o.remove("out");
+    let mut tables: Vec<(String, String)> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read_to_string(&p).unwrap())
+        })
+        .collect();
+    tables.sort();
+    (j, tables)
+}
+
+#[test]
+fn study_scan_angle_is_bit_identical_for_any_thread_count() {
+    let (json_1, tables_1) = small_study("1");
+    let (json_3, tables_3) = small_study("3");
+    assert!(tables_1.len() >= 4, "{:?}", tables_1.iter().map(|t| &t.0));
+    assert_eq!(json_1, json_3, "1 and 3 threads differ");
+    assert_eq!(tables_1, tables_3, "1 and 3 threads wrote other tables");
+}
+
 /// The sweep's JSON without its wall-clock time.
 fn sweep_json(threads: &str, out: Option<&Path>) -> Value {
     let mut args = vec![
@@ -195,7 +251,7 @@ fn sweep_json(threads: &str, out: Option<&Path>) -> Value {
         "--exposure-ms",
         "0.1,0.5",
         "--poses",
-        "1",
+        "2",
         "--photons",
         "16384",
         "--json",
@@ -214,8 +270,8 @@ fn sweep_prints_one_row_per_cell_and_is_bit_identical_for_any_thread_count() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("sweep");
     let one = sweep_json("1", None);
-    let two = sweep_json("2", Some(&out));
-    assert_eq!(one, two, "1 and 2 threads differ");
+    let three = sweep_json("3", Some(&out));
+    assert_eq!(one, three, "1 and 3 threads differ");
     let cells = one["cells"].as_array().unwrap();
     assert_eq!(cells.len(), 4);
     let settings: Vec<(f64, f64)> = cells

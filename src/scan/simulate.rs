@@ -185,6 +185,41 @@ pub fn sense_pose(
     pose: &ScanPose,
     settings: &TraceSettings,
 ) -> PoseResult {
+    let Sensed {
+        image,
+        saturated_pixels,
+        profile,
+    } = sense(&irradiance, head, pose, settings);
+    PoseResult {
+        pose: pose.clone(),
+        irradiance,
+        image,
+        saturated_pixels,
+        profile,
+        stats,
+    }
+}
+
+/// What the sensor makes of a pose's light.
+#[derive(Clone, Debug)]
+pub struct Sensed {
+    /// Digital image (DN, `imager.adc_bits` wide).
+    pub image: Image<u16>,
+    /// Pixels at the full well or at the ADC's full scale.
+    pub saturated_pixels: usize,
+    /// The extracted profile.
+    pub profile: Profile,
+}
+
+/// [`sense_pose`] without handing the light on: a study senses one pose's light with several
+/// sensor settings and keeps only what each makes of it, so the light (tens of megabytes of
+/// images per path class) is borrowed rather than copied for each.
+pub fn sense(
+    irradiance: &Irradiance,
+    head: &SensorHead,
+    pose: &ScanPose,
+    settings: &TraceSettings,
+) -> Sensed {
     let cfg = &head.config;
     let exposure = cfg.imager.expose_noisy(
         &irradiance.total,
@@ -200,13 +235,10 @@ pub fn sense_pose(
         &head.camera,
         &cfg.firmware,
     );
-    PoseResult {
-        pose: pose.clone(),
-        irradiance,
+    Sensed {
         image: exposure.dn,
         saturated_pixels: exposure.saturated,
         profile,
-        stats,
     }
 }
 

@@ -16,14 +16,13 @@
 //! be small). Cells where a rule finds no BIP at an angle are reported with that angle's valid
 //! fraction and no verdict.
 
-use rayon::prelude::*;
-
 use super::edge_frame::EdgeFrame;
+use super::side_by_side::map_poses;
 use super::tally::{PoseTally, RuleSummary};
 use crate::dataset::randomize::Param;
 use crate::dataset::scene_edit::SceneTemplate;
 use crate::scan::poses::plan_border_scan;
-use crate::scan::simulate::{sense_pose, trace_pose};
+use crate::scan::simulate::trace_pose;
 use crate::scan::ScanConfig;
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
@@ -94,7 +93,7 @@ impl MapCell {
 pub fn run_finding_map(
     template: &SceneTemplate,
     cfg: &FindingMapConfig,
-    on_pose: &dyn Fn(),
+    on_pose: &(dyn Fn() + Sync),
 ) -> Result<Vec<MapCell>, String> {
     let mut cells = Vec::new();
     for &w in &cfg.arris_widths_mm {
@@ -123,21 +122,17 @@ pub fn run_finding_map(
                     scan_angle_rad: angle,
                     ..cfg.scan
                 };
-                for pose in plan_border_scan(&border_b, &scan, &world.mount) {
-                    let frame = EdgeFrame::of_pose(&border_b, &pose);
-                    let (irradiance, stats) =
-                        trace_pose(&scene, &head, &pose, &cfg.trace, super::tally::STOP_RULES);
-                    let sensed: Vec<PoseTally> = heads
-                        .par_iter()
-                        .map(|h| {
-                            let r = sense_pose(irradiance.clone(), stats, h, &pose, &cfg.trace);
-                            PoseTally::new(&r, &frame)
-                        })
-                        .collect();
+                let poses = plan_border_scan(&border_b, &scan, &world.mount);
+                let by_pose = map_poses(&poses, on_pose, |pose| {
+                    let frame = EdgeFrame::of_pose(&border_b, pose);
+                    let (irradiance, _) =
+                        trace_pose(&scene, &head, pose, &cfg.trace, super::tally::STOP_RULES);
+                    PoseTally::for_heads(&irradiance, &heads, pose, &cfg.trace, &frame)
+                });
+                for sensed in by_pose {
                     for (t, s) in tallies[a].iter_mut().zip(sensed) {
                         t.push(s);
                     }
-                    on_pose();
                 }
             }
             let rules = (0..heads.len())

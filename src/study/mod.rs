@@ -14,6 +14,7 @@ pub mod finding_map_report;
 pub mod grid;
 pub mod scan_angle;
 pub mod scan_angle_report;
+pub mod side_by_side;
 pub mod sweep;
 pub mod sweep_report;
 pub mod tally;

@@ -10,12 +10,12 @@
 //! angles are those of the geometry, not of the noise draw (common random numbers).
 
 use nalgebra::Point3;
-use rayon::prelude::*;
 
+use super::side_by_side::map_poses;
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::scan::poses::plan_border_scan;
-use crate::scan::simulate::{sense_pose, trace_pose};
+use crate::scan::simulate::{sense, trace_pose};
 use crate::scan::ScanConfig;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorHead;
@@ -205,13 +205,27 @@ pub struct ScanAngleStudy {
     pub sweep: Vec<SweepAngle>,
 }
 
+/// What one pose of a variant gives the study.
+struct PoseOutcome {
+    /// Its tally at each exposure of the exposure axis.
+    by_exposure: Vec<PoseTally>,
+    /// Its tally with the scene's own sensor.
+    tally: PoseTally,
+    /// The valid profile point nearest p_e (mm), if any.
+    nearest: Option<f64>,
+    /// Valid points at the ADC's full scale.
+    saturated_points: usize,
+    /// Its valid points in the edge frame.
+    points: Vec<EdgePoint>,
+}
+
 /// Simulates `setup` at every position for scan angle `angle_rad`.
 fn run_variant(
     setup: &VariantSetup,
     cfg: &ScanAngleConfig,
     angle_rad: f64,
     points: Option<&mut Vec<EdgePoint>>,
-    on_pose: &dyn Fn(),
+    on_pose: &(dyn Fn() + Sync),
 ) -> VariantAngle {
     let scan = ScanConfig {
         scan_angle_rad: angle_rad,
@@ -230,41 +244,33 @@ fn run_variant(
             .collect(),
         Variant::Tape | Variant::Cover => Vec::new(),
     };
-    let mut by_exposure = vec![Vec::with_capacity(scan.poses); heads.len()];
-    let mut tallies = Vec::with_capacity(scan.poses);
-    let mut nearest_mm = Vec::with_capacity(scan.poses);
-    let mut saturated_points = 0;
-    let mut kept = Vec::new();
-    for pose in plan_border_scan(&setup.border_b, &scan, &setup.mount) {
-        let frame = EdgeFrame::of_pose(&setup.border_b, &pose);
-        let (irradiance, stats) = trace_pose(
+    let keep_points = points.is_some();
+    let poses = plan_border_scan(&setup.border_b, &scan, &setup.mount);
+    let by_pose = map_poses(&poses, on_pose, |pose| {
+        let frame = EdgeFrame::of_pose(&setup.border_b, pose);
+        let (irradiance, _) = trace_pose(
             &setup.scene,
             &setup.head,
-            &pose,
+            pose,
             &cfg.trace,
             super::tally::STOP_RULES,
         );
         // The exposure axis: the same light, sensed again (noise keyed on the seed and pose).
-        let sensed: Vec<PoseTally> = heads
-            .par_iter()
-            .map(|head| {
-                let r = sense_pose(irradiance.clone(), stats, head, &pose, &cfg.trace);
-                PoseTally::new(&r, &frame)
-            })
-            .collect();
-        for (t, s) in by_exposure.iter_mut().zip(sensed) {
-            t.push(s);
-        }
-        let result = sense_pose(irradiance, stats, &setup.head, &pose, &cfg.trace);
-        tallies.push(PoseTally::new(&result, &frame));
+        let by_exposure = PoseTally::for_heads(&irradiance, &heads, pose, &cfg.trace, &frame);
+        let result = sense(&irradiance, &setup.head, pose, &cfg.trace);
         let mut nearest: Option<f64> = None;
+        let mut saturated_points = 0;
+        let mut points = Vec::new();
         for q in result.profile.points.iter().filter(|q| q.valid) {
             saturated_points += (q.intensity >= full_scale) as usize;
             let p_b = pose.sensor * Point3::new(q.x_mm * 1e-3, 0.0, q.z_mm * 1e-3);
             let d = (p_b - frame.origin).norm() * 1e3;
             nearest = Some(nearest.map_or(d, |n| n.min(d)));
+            if !keep_points {
+                continue;
+            }
             let (out_mm, up_mm) = frame.coordinates_mm(&p_b);
-            kept.push(EdgePoint {
+            points.push(EdgePoint {
                 variant: setup.variant,
                 scan_angle_deg: as_typed(angle_rad.to_degrees()),
                 position: pose.index,
@@ -274,8 +280,27 @@ fn run_variant(
                 label: q.label,
             });
         }
-        nearest_mm.push(nearest);
-        on_pose();
+        PoseOutcome {
+            by_exposure,
+            tally: PoseTally::new(&result, &pose.sensor, &frame),
+            nearest,
+            saturated_points,
+            points,
+        }
+    });
+    let mut by_exposure = vec![Vec::with_capacity(scan.poses); heads.len()];
+    let mut tallies = Vec::with_capacity(scan.poses);
+    let mut nearest_mm = Vec::with_capacity(scan.poses);
+    let mut saturated_points = 0;
+    let mut kept = Vec::new();
+    for pose in by_pose {
+        for (t, s) in by_exposure.iter_mut().zip(pose.by_exposure) {
+            t.push(s);
+        }
+        tallies.push(pose.tally);
+        nearest_mm.push(pose.nearest);
+        saturated_points += pose.saturated_points;
+        kept.extend(pose.points);
     }
     if let Some(points) = points {
         points.extend(kept);
@@ -294,7 +319,7 @@ fn run_variant(
 pub fn run_scan_angle_study(
     setups: &[VariantSetup],
     cfg: &ScanAngleConfig,
-    on_pose: &dyn Fn(),
+    on_pose: &(dyn Fn() + Sync),
 ) -> ScanAngleStudy {
     let angles: Vec<AngleResult> = cfg
         .angles_rad

@@ -5,20 +5,20 @@
 //! The light reaching the image plane depends on the scan angle only, not on the exposure, the
 //! threshold or the peak selection. So each (angle, pose) is traced once
 //! (`scan::simulate::trace_pose`) and then sensed once per sensor setting
-//! (`scan::simulate::sense_pose`), in parallel over the settings; each setting gives exactly
+//! (`scan::simulate::sense`), in parallel over the settings and with the poses side by side
+//! (`study::side_by_side`); each setting gives exactly
 //! what `simulate_pose` with that setting would, since the noise is keyed on the seed and the
 //! pose index alone. Results are collected in cell order, so they do not depend on the thread
 //! count.
 
-use rayon::prelude::*;
-
 use super::edge_frame::EdgeFrame;
 use super::grid::{Cell, SweepGrid};
+use super::side_by_side::map_poses;
 use super::tally::{PoseTally, RuleSummary};
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::scan::poses::plan_border_scan;
-use crate::scan::simulate::{sense_pose, trace_pose};
+use crate::scan::simulate::trace_pose;
 use crate::scan::ScanConfig;
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
@@ -74,7 +74,7 @@ pub fn head_for(base: &SensorHead, grid: &SweepGrid, cell: &Cell) -> SensorHead 
 }
 
 /// Runs every cell of `grid`: `scan.poses` poses per angle on `border_b` (the true border in
-/// the base frame). `on_pose` is called after each traced (angle, pose), from this thread.
+/// the base frame). `on_pose` is called after each traced (angle, pose), from any thread.
 #[allow(clippy::too_many_arguments)]
 pub fn run_sweep(
     scene: &TraceScene,
@@ -84,7 +84,7 @@ pub fn run_sweep(
     scan: &ScanConfig,
     grid: &SweepGrid,
     trace: &TraceSettings,
-    on_pose: &dyn Fn(),
+    on_pose: &(dyn Fn() + Sync),
 ) -> Vec<CellResult> {
     let cells = grid.cells();
     let per_angle = grid.sensor_settings();
@@ -98,22 +98,18 @@ pub fn run_sweep(
             scan_angle_rad: grid.angles_rad[angle],
             ..*scan
         };
+        let poses = plan_border_scan(border_b, &scan, mount);
+        // by_pose[pose][head]
+        let by_pose = map_poses(&poses, on_pose, |pose| {
+            let frame = EdgeFrame::of_pose(border_b, pose);
+            let (irradiance, _) = trace_pose(scene, base, pose, trace, super::tally::STOP_RULES);
+            PoseTally::for_heads(&irradiance, &heads, pose, trace, &frame)
+        });
         let mut tallies: Vec<Vec<PoseTally>> = vec![Vec::with_capacity(scan.poses); heads.len()];
-        for pose in plan_border_scan(border_b, &scan, mount) {
-            let frame = EdgeFrame::of_pose(border_b, &pose);
-            let (irradiance, stats) =
-                trace_pose(scene, base, &pose, trace, super::tally::STOP_RULES);
-            let sensed: Vec<PoseTally> = heads
-                .par_iter()
-                .map(|head| {
-                    let result = sense_pose(irradiance.clone(), stats, head, &pose, trace);
-                    PoseTally::new(&result, &frame)
-                })
-                .collect();
+        for sensed in by_pose {
             for (t, s) in tallies.iter_mut().zip(sensed) {
                 t.push(s);
             }
-            on_pose();
         }
         results.extend(
             angle_cells

@@ -2,15 +2,20 @@
 //! and the counts behind the saturated-pixel and wrong-surface fractions. Images are dropped,
 //! so a study of hundreds of poses holds a few numbers per pose.
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::edge_frame::EdgeFrame;
 use super::wrong_surface::count_wrong_surface;
+use crate::geometry::pose::Pose;
 use crate::localise::metrics::Stats;
 use crate::scan::adaptive::StopRules;
 use crate::scan::bip::{find_bip, BipRule};
-use crate::scan::simulate::PoseResult;
+use crate::scan::poses::ScanPose;
+use crate::scan::simulate::{sense, Sensed};
 use crate::sensor::path_class::PathClass;
+use crate::sensor::SensorHead;
+use crate::transport::{Irradiance, TraceSettings};
 
 /// The BIP rules every study compares: the paper's highest point, then our edge-line variant.
 pub const RULES: [BipRule; 2] = [BipRule::Highest, BipRule::EdgeLine];
@@ -47,10 +52,11 @@ pub struct PoseTally {
 }
 
 impl PoseTally {
-    /// Reduces `result`, whose ground truth p_e is `frame.origin`.
-    pub fn new(result: &PoseResult, frame: &EdgeFrame) -> PoseTally {
+    /// Reduces what the sensor at T_BS = `sensor` made of a pose, whose ground truth p_e is
+    /// `frame.origin`.
+    pub fn new(result: &Sensed, sensor: &Pose, frame: &EdgeFrame) -> PoseTally {
         let bips = RULES.map(|rule| {
-            let bip = find_bip(&result.profile, &result.pose.sensor, rule);
+            let bip = find_bip(&result.profile, sensor, rule);
             BipOutcome {
                 rule,
                 error_mm: bip.map(|b| (b.point_b - frame.origin).norm() * 1e3),
@@ -66,6 +72,24 @@ impl PoseTally {
             valid_points,
             wrong_surface_points,
         }
+    }
+}
+
+impl PoseTally {
+    /// One traced pose's light sensed by each of `heads` (settings that leave the light as it
+    /// is: exposure, threshold, peak selection), each reduced against `frame`; in `heads`'
+    /// order. The sensor's noise is keyed on the seed and the pose, the same for every head.
+    pub fn for_heads(
+        irradiance: &Irradiance,
+        heads: &[SensorHead],
+        pose: &ScanPose,
+        trace: &TraceSettings,
+        frame: &EdgeFrame,
+    ) -> Vec<PoseTally> {
+        heads
+            .par_iter()
+            .map(|head| PoseTally::new(&sense(irradiance, head, pose, trace), &pose.sensor, frame))
+            .collect()
     }
 }
 
