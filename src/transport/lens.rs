@@ -152,9 +152,8 @@ fn distance_to_quad(p: [f64; 2], quad: &[[f64; 2]; 4]) -> f64 {
     let cross = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
         (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
     };
-    let sides: Vec<f64> = (0..4)
-        .map(|i| cross(quad[i], quad[(i + 1) % 4], p))
-        .collect();
+    // An array, not a Vec: this runs at every vertex of every photon (`far_from_view`).
+    let sides: [f64; 4] = std::array::from_fn(|i| cross(quad[i], quad[(i + 1) % 4], p));
     if sides.iter().all(|&s| s >= 0.0) || sides.iter().all(|&s| s <= 0.0) {
         return 0.0;
     }
