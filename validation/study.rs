@@ -218,7 +218,6 @@ fn small_study(threads: &str) -> (Value, Vec<(String, String)>) {
     let o = j.as_object_mut().unwrap();
     o.remove("elapsed_s");
     o.remove("files");
-    o.remove("out");
     let mut tables: Vec<(String, String)> = std::fs::read_dir(&out)
         .unwrap()
         .map(|e| e.unwrap().path())

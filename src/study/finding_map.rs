@@ -18,7 +18,7 @@
 
 use super::edge_frame::EdgeFrame;
 use super::side_by_side::map_poses;
-use super::tally::{PoseTally, RuleSummary};
+use super::tally::{by_setting, PoseTally, RuleSummary};
 use crate::dataset::randomize::Param;
 use crate::dataset::scene_edit::SceneTemplate;
 use crate::scan::poses::plan_border_scan;
@@ -116,7 +116,7 @@ pub fn run_finding_map(
                 })
                 .collect();
             // tallies[angle][exposure][position]
-            let mut tallies = [vec![Vec::new(); heads.len()], vec![Vec::new(); heads.len()]];
+            let mut tallies = [Vec::new(), Vec::new()];
             for (a, &angle) in cfg.angles_rad.iter().enumerate() {
                 let scan = ScanConfig {
                     scan_angle_rad: angle,
@@ -129,11 +129,7 @@ pub fn run_finding_map(
                         trace_pose(&scene, &head, pose, &cfg.trace, super::tally::STOP_RULES);
                     PoseTally::for_heads(&irradiance, &heads, pose, &cfg.trace, &frame)
                 });
-                for sensed in by_pose {
-                    for (t, s) in tallies[a].iter_mut().zip(sensed) {
-                        t.push(s);
-                    }
-                }
+                tallies[a] = by_setting(by_pose, heads.len());
             }
             let rules = (0..heads.len())
                 .map(|e| {

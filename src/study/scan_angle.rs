@@ -23,7 +23,7 @@ use crate::transport::{TraceScene, TraceSettings};
 
 use super::as_typed;
 use super::edge_frame::EdgeFrame;
-use super::tally::{PoseTally, RuleSummary};
+use super::tally::{by_setting, PoseTally, RuleSummary};
 use crate::localise::metrics::Stats;
 
 /// The three steps of the paper's experiment.
@@ -288,15 +288,13 @@ fn run_variant(
             points,
         }
     });
-    let mut by_exposure = vec![Vec::with_capacity(scan.poses); heads.len()];
+    let mut exposures = Vec::with_capacity(scan.poses);
     let mut tallies = Vec::with_capacity(scan.poses);
     let mut nearest_mm = Vec::with_capacity(scan.poses);
     let mut saturated_points = 0;
     let mut kept = Vec::new();
     for pose in by_pose {
-        for (t, s) in by_exposure.iter_mut().zip(pose.by_exposure) {
-            t.push(s);
-        }
+        exposures.push(pose.by_exposure);
         tallies.push(pose.tally);
         nearest_mm.push(pose.nearest);
         saturated_points += pose.saturated_points;
@@ -310,7 +308,7 @@ fn run_variant(
         tallies,
         nearest_mm,
         saturated_points,
-        by_exposure,
+        by_exposure: by_setting(exposures, heads.len()),
     }
 }
 

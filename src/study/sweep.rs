@@ -6,15 +6,14 @@
 //! threshold or the peak selection. So each (angle, pose) is traced once
 //! (`scan::simulate::trace_pose`) and then sensed once per sensor setting
 //! (`scan::simulate::sense`), in parallel over the settings and with the poses side by side
-//! (`study::side_by_side`); each setting gives exactly
-//! what `simulate_pose` with that setting would, since the noise is keyed on the seed and the
-//! pose index alone. Results are collected in cell order, so they do not depend on the thread
+//! (`study::side_by_side`); each setting gives exactly what `simulate_pose` with that setting
+//! would, since the noise is keyed on the seed and the pose index alone. Results are collected in cell order, so they do not depend on the thread
 //! count.
 
 use super::edge_frame::EdgeFrame;
 use super::grid::{Cell, SweepGrid};
 use super::side_by_side::map_poses;
-use super::tally::{PoseTally, RuleSummary};
+use super::tally::{by_setting, PoseTally, RuleSummary};
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::scan::poses::plan_border_scan;
@@ -99,18 +98,12 @@ pub fn run_sweep(
             ..*scan
         };
         let poses = plan_border_scan(border_b, &scan, mount);
-        // by_pose[pose][head]
         let by_pose = map_poses(&poses, on_pose, |pose| {
             let frame = EdgeFrame::of_pose(border_b, pose);
             let (irradiance, _) = trace_pose(scene, base, pose, trace, super::tally::STOP_RULES);
             PoseTally::for_heads(&irradiance, &heads, pose, trace, &frame)
         });
-        let mut tallies: Vec<Vec<PoseTally>> = vec![Vec::with_capacity(scan.poses); heads.len()];
-        for sensed in by_pose {
-            for (t, s) in tallies.iter_mut().zip(sensed) {
-                t.push(s);
-            }
-        }
+        let tallies = by_setting(by_pose, heads.len());
         results.extend(
             angle_cells
                 .iter()

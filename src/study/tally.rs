@@ -73,9 +73,7 @@ impl PoseTally {
             wrong_surface_points,
         }
     }
-}
 
-impl PoseTally {
     /// One traced pose's light sensed by each of `heads` (settings that leave the light as it
     /// is: exposure, threshold, peak selection), each reduced against `frame`; in `heads`'
     /// order. The sensor's noise is keyed on the seed and the pose, the same for every head.
@@ -91,6 +89,18 @@ impl PoseTally {
             .map(|head| PoseTally::new(&sense(irradiance, head, pose, trace), &pose.sensor, frame))
             .collect()
     }
+}
+
+/// Tallies made pose by pose, one per sensor setting (`by_pose[pose][setting]`), regrouped by
+/// setting (`[setting][pose]`), as the summaries take them.
+pub fn by_setting(by_pose: Vec<Vec<PoseTally>>, settings: usize) -> Vec<Vec<PoseTally>> {
+    let mut out = vec![Vec::with_capacity(by_pose.len()); settings];
+    for tallies in by_pose {
+        for (t, s) in out.iter_mut().zip(tallies) {
+            t.push(s);
+        }
+    }
+    out
 }
 
 /// BIP error statistics of one rule over a set of poses.

@@ -459,12 +459,9 @@ impl Tracer<'_> {
             // off). It continues with probability ROULETTE_SURVIVAL and its flux divided by it,
             // so every estimate keeps its mean (Arvo & Kirk, "Particle transport and image
             // synthesis", SIGGRAPH 1990). Its own keyed stream leaves every other random
-            // number as it was. Light trapped in a pane by total internal reflection (above
-            // all what the rough edge scatters into it) reaches the camera only as the faint
-            // glow of face imperfections, yet made 42 % of the vertices on edge_study_bare at
-            // 45°, most of them in view; so it is thinned wherever it is (ARCHITECTURE.md,
-            // light transport, step 7, for what was measured and why partial reflections are
-            // not thinned in view).
+            // number as it was. Trapped light shows the camera only the faint glow of face
+            // imperfections but made 42 % of the vertices, most of them in view; why partial
+            // reflections are not thinned in view: ARCHITECTURE.md, light transport, step 7.
             let margin = if photon.internal_reflection {
                 REFLECTED_INSIDE_ROULETTE_MARGIN_M
             } else {
