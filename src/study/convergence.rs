@@ -1,6 +1,6 @@
 //! When is a simulated profile converged? The test this project states and measures (issue 11).
 //!
-//! A photon count N is **converged** for a scene and scan angle when both hold, against a
+//! A photon count N is **converged** for a scene and scan angle when all four hold, against a
 //! reference run at a much larger photon count on the same poses:
 //!
 //! 1. **BIP errors**: the distribution of the edge-line BIP error |BIP − p_e| over P poses × S
@@ -19,6 +19,25 @@
 //!    reference runs that differ in every random number (speckle dominates it). Independent
 //!    errors add in quadrature, so at that bound the Monte Carlo error raises the profile's
 //!    noise by at most √(1 + 1/4) − 1 ≈ 12 %.
+//! 4. **The paper's BIP**: the distribution of the highest-point BIP error at N (independent
+//!    seeds) is not distinguishable from the reference's (both its seed sets) by the same
+//!    Kolmogorov–Smirnov test.
+//!    The highest point takes any spurious bright point above the edge, so it sees what the
+//!    edge-line rule is built to ignore: a variance reduction that lights the table seen through
+//!    the pane with rare, heavily weighted photons moves the paper's BIP by millimetres while
+//!    criteria 1–3 still hold (measured: validation/results/convergence/README.md). It is not
+//!    judged pair by pair: at every photon count, the reference's included, a few per cent of
+//!    profiles carry one such point, seed by seed, so pairs would disagree at any N. Its power
+//!    is that of 32 against 64 samples: at significance 0.01 it sees a change that moves about
+//!    a third of the paper's BIPs (D ≳ 0.35), not a few per cent more spurious points.
+//!
+//! **The null.** Is the reference itself converged, and can the paired criteria be met at all?
+//! Its *twin* ([`sample_twin_profiles`]) draws another reference's photons from other seeds
+//! with the same speckle and sensor noise; two converged runs agree pair by pair, so the twin
+//! against the reference shows how far Monte Carlo noise alone moves each BIP at the
+//! reference's photon count. A rule whose BIPs move between the twins is not converged even in
+//! the reference, and a criterion on it cannot judge N: the slow tier only asserts criteria
+//! the twin meets (measured: validation/results/convergence/README.md).
 //!
 //! The Kolmogorov–Smirnov p-value is the asymptotic one with Stephens' small-sample correction
 //! (Numerical Recipes, 3rd ed., §14.3.3, eq. 14.3.18; Stephens, JRSS B 32, 1970).
@@ -29,7 +48,8 @@ use serde::{Deserialize, Serialize};
 use crate::scan::adaptive::StopRules;
 use crate::scan::bip::{find_bip, BipRule};
 use crate::scan::poses::ScanPose;
-use crate::scan::simulate::simulate_pose;
+use crate::scan::simulate::{apply_lens_psf, pose_rendering, sense, simulate_pose};
+use crate::sensor::profile::Profile;
 use crate::sensor::SensorHead;
 use crate::transport::{TraceScene, TraceSettings};
 
@@ -61,9 +81,51 @@ pub struct ProfileSample {
     pub bip_error_mm: Option<f64>,
     /// The edge-line BIP in the base frame (mm).
     pub bip_mm: Option<[f64; 3]>,
+    /// The paper's highest-point BIP (criterion 4). Required in JSON: a reference made before
+    /// it was recorded must be made again, not read as one without BIPs.
+    pub highest: RuleBip,
     /// Range per profile point (mm), NaN where the point is invalid (`null` in JSON).
     #[serde(with = "nan_as_null")]
     pub z_mm: Vec<f64>,
+}
+
+impl ProfileSample {
+    /// What the test keeps of the profile of `pose` simulated at `seed` with `photons`.
+    fn of(profile: &Profile, pose: &ScanPose, seed: u64, photons: u64) -> ProfileSample {
+        let edge_line = RuleBip::of(profile, pose, BipRule::EdgeLine);
+        ProfileSample {
+            pose: pose.index,
+            seed,
+            photons,
+            bip_error_mm: edge_line.error_mm,
+            bip_mm: edge_line.point_mm,
+            highest: RuleBip::of(profile, pose, BipRule::Highest),
+            z_mm: profile
+                .points
+                .iter()
+                .map(|p| if p.valid { p.z_mm } else { f64::NAN })
+                .collect(),
+        }
+    }
+}
+
+/// The BIP one rule found in a profile.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RuleBip {
+    /// |BIP − p_e| (mm); `None` when the rule found no BIP.
+    pub error_mm: Option<f64>,
+    /// The BIP in the base frame (mm).
+    pub point_mm: Option<[f64; 3]>,
+}
+
+impl RuleBip {
+    fn of(profile: &Profile, pose: &ScanPose, rule: BipRule) -> RuleBip {
+        let bip = find_bip(profile, &pose.sensor, rule).map(|b| b.point_b);
+        RuleBip {
+            error_mm: bip.map(|b| (b - pose.edge_point).norm() * 1e3),
+            point_mm: bip.map(|b| [b.x * 1e3, b.y * 1e3, b.z * 1e3]),
+        }
+    }
 }
 
 /// JSON has no NaN: invalid points travel as `null`.
@@ -101,33 +163,71 @@ pub fn sample_profiles(
         };
         for pose in poses {
             let r = simulate_pose(trace, head, pose, &settings, StopRules::EDGE_LINE);
-            let bip = find_bip(&r.profile, &pose.sensor, BipRule::EdgeLine).map(|b| b.point_b);
-            let bip_error_mm = bip.map(|b| (b - pose.edge_point).norm() * 1e3);
-            let bip_mm = bip.map(|b| [b.x * 1e3, b.y * 1e3, b.z * 1e3]);
-            let z_mm = r
-                .profile
-                .points
-                .iter()
-                .map(|p| if p.valid { p.z_mm } else { f64::NAN })
-                .collect();
-            out.push(ProfileSample {
-                pose: pose.index,
-                seed,
-                photons: r.stats.photons,
-                bip_error_mm,
-                bip_mm,
-                z_mm,
-            });
+            out.push(ProfileSample::of(&r.profile, pose, seed, r.stats.photons));
         }
     }
     out
 }
 
-/// The BIP errors of `samples` for the Kolmogorov–Smirnov test, a missing BIP as +∞.
+/// The reference's twin: every (pose, seed) of `seeds` with the same speckle and sensor noise
+/// as [`sample_profiles`] at that seed, but its photons drawn from the independent seed
+/// `seed ^ TWIN_PHOTON_STREAM`. Against the reference, pair by pair, it measures the Monte
+/// Carlo disagreement of two runs at the reference's photon count: the null the paired
+/// criteria are judged against.
+pub fn sample_twin_profiles(
+    trace: &TraceScene,
+    head: &SensorHead,
+    poses: &[ScanPose],
+    seeds: &[u64],
+    photons: u64,
+    max_depth: u32,
+) -> Vec<ProfileSample> {
+    let mut out = Vec::with_capacity(seeds.len() * poses.len());
+    for &seed in seeds {
+        let sensor = TraceSettings {
+            photons,
+            adaptive: false,
+            max_depth,
+            seed,
+        };
+        let light = TraceSettings {
+            seed: seed ^ TWIN_PHOTON_STREAM,
+            ..sensor
+        };
+        for pose in poses {
+            let mut rendering = pose_rendering(trace, head, pose, &light);
+            rendering.trace_to(photons);
+            let (mut irradiance, stats) = rendering.develop();
+            apply_lens_psf(&mut irradiance, head, pose, seed);
+            let sensed = sense(&irradiance, head, pose, &sensor);
+            out.push(ProfileSample::of(
+                &sensed.profile,
+                pose,
+                seed,
+                stats.photons,
+            ));
+        }
+    }
+    out
+}
+
+/// XORed into a seed for its twin's photons (an arbitrary odd constant: any seed apart from
+/// the study's gives independent photon streams).
+const TWIN_PHOTON_STREAM: u64 = 0x7a1f_0b3d_95c2_e861;
+
+/// The edge-line BIP errors of `samples` for the Kolmogorov–Smirnov test, a missing BIP as +∞.
 pub fn bip_errors(samples: &[ProfileSample]) -> Vec<f64> {
     samples
         .iter()
         .map(|s| s.bip_error_mm.unwrap_or(f64::INFINITY))
+        .collect()
+}
+
+/// The highest-point BIP errors of `samples`, a missing BIP as +∞.
+pub fn highest_bip_errors(samples: &[ProfileSample]) -> Vec<f64> {
+    samples
+        .iter()
+        .map(|s| s.highest.error_mm.unwrap_or(f64::INFINITY))
         .collect()
 }
 
@@ -173,7 +273,7 @@ fn median(v: &mut [f64]) -> Option<f64> {
     })
 }
 
-/// The three criteria of the module docs for one photon count against its reference.
+/// The four criteria of the module docs for one photon count against its reference.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Verdict {
     /// Criterion 1: the BIP errors at N (seeds independent of the reference's) against the
@@ -188,8 +288,35 @@ pub struct Verdict {
     pub monte_carlo_z_mm: f64,
     /// The median column |z_ref(a) − z_ref(b)| between reference seeds (mm).
     pub sensor_noise_z_mm: f64,
-    /// All three hold.
+    /// Criterion 4: the highest-point BIP errors at N (independent seeds) against the
+    /// reference's.
+    pub highest_ks_statistic: f64,
+    /// Its p-value; the criterion holds when it is at least [`KS_SIGNIFICANCE`].
+    pub highest_ks_p_value: f64,
+    /// All four hold.
     pub converged: bool,
+}
+
+impl Verdict {
+    /// Criterion 1: the edge-line BIP errors' distribution.
+    pub fn edge_line_distribution_holds(&self) -> bool {
+        self.ks_p_value >= KS_SIGNIFICANCE
+    }
+
+    /// Criterion 2: the same-seed BIPs pair by pair.
+    pub fn paired_bips_hold(&self) -> bool {
+        self.bip_match_fraction >= MIN_BIP_MATCH
+    }
+
+    /// Criterion 3: the profile's z per column.
+    pub fn profile_z_holds(&self) -> bool {
+        self.monte_carlo_z_mm <= MAX_NOISE_RATIO * self.sensor_noise_z_mm
+    }
+
+    /// Criterion 4: the paper's highest-point BIP errors' distribution.
+    pub fn highest_distribution_holds(&self) -> bool {
+        self.highest_ks_p_value >= KS_SIGNIFICANCE
+    }
 }
 
 /// Judges `at_n` against the reference. `reference` and `same_seed` are matched pair by pair
@@ -218,6 +345,11 @@ pub fn judge(
         assert_eq!(a.pose, b.pose, "unmatched reference pair");
     }
     let ks = ks_two_sample(&bip_errors(independent), &bip_errors(reference));
+    // Both reference seed sets: independent of the runs at N and of each other, twice the
+    // sample, so more power against a tail.
+    let mut highest_reference = highest_bip_errors(reference);
+    highest_reference.extend(highest_bip_errors(reference_other));
+    let highest_ks = ks_two_sample(&highest_bip_errors(independent), &highest_reference);
     let matched = reference
         .iter()
         .zip(same_seed)
@@ -232,17 +364,21 @@ pub fn judge(
         pooled_median_difference(reference.iter().zip(same_seed)).unwrap_or(f64::INFINITY);
     let sensor_noise_z_mm =
         pooled_median_difference(reference.iter().zip(reference_other)).unwrap_or(0.0);
-    let converged = ks.p_value >= KS_SIGNIFICANCE
-        && bip_match_fraction >= MIN_BIP_MATCH
-        && monte_carlo_z_mm <= MAX_NOISE_RATIO * sensor_noise_z_mm;
-    Verdict {
+    let mut v = Verdict {
         ks_statistic: ks.statistic,
         ks_p_value: ks.p_value,
         bip_match_fraction,
         monte_carlo_z_mm,
         sensor_noise_z_mm,
-        converged,
-    }
+        highest_ks_statistic: highest_ks.statistic,
+        highest_ks_p_value: highest_ks.p_value,
+        converged: false,
+    };
+    v.converged = v.edge_line_distribution_holds()
+        && v.paired_bips_hold()
+        && v.profile_z_holds()
+        && v.highest_distribution_holds();
+    v
 }
 
 /// What the two-sample Kolmogorov–Smirnov test measured.
@@ -344,6 +480,7 @@ mod tests {
         assert!((t.statistic - 0.5).abs() < 1e-12, "{t:?}");
     }
 
+    /// A sample whose two rules found the same BIP.
     fn sample(pose: usize, seed: u64, bip: Option<f64>, z: &[f64]) -> ProfileSample {
         ProfileSample {
             pose,
@@ -351,17 +488,21 @@ mod tests {
             photons: 0,
             bip_error_mm: bip,
             bip_mm: bip.map(|b| [b, 0.0, 0.0]),
+            highest: RuleBip {
+                error_mm: bip,
+                point_mm: bip.map(|b| [b, 0.0, 0.0]),
+            },
             z_mm: z.to_vec(),
         }
     }
 
     #[test]
-    fn the_verdict_needs_all_three_criteria() {
+    fn the_verdict_needs_all_four_criteria() {
         let reference: Vec<_> = (0..40)
             .map(|i| sample(i, 1, Some(0.08 + 0.001 * i as f64), &[100.0, 101.0]))
             .collect();
         let other: Vec<_> = (0..40)
-            .map(|i| sample(i, 2, Some(0.08), &[100.02, 101.02]))
+            .map(|i| sample(i, 2, Some(0.0803 + 0.001 * i as f64), &[100.02, 101.02]))
             .collect();
         let near: Vec<_> = reference
             .iter()
@@ -396,6 +537,34 @@ mod tests {
             .collect();
         let v = judge(&reference, &other, &near, &worse);
         assert!(!v.converged && v.ks_p_value < KS_SIGNIFICANCE, "{v:?}");
+        // The edge-line BIPs as good as the reference's, but 2 in 5 of the paper's highest
+        // points 6 mm off (spurious points above the edge): criterion 4 alone fails.
+        let spurious: Vec<_> = independent
+            .iter()
+            .map(|s| {
+                let mut s = s.clone();
+                if s.pose % 5 < 2 {
+                    s.highest.error_mm = Some(6.0);
+                }
+                s
+            })
+            .collect();
+        let v = judge(&reference, &other, &near, &spurious);
+        assert!(
+            !v.converged
+                && v.ks_p_value >= KS_SIGNIFICANCE
+                && v.highest_ks_p_value < KS_SIGNIFICANCE,
+            "{v:?}"
+        );
+    }
+
+    #[test]
+    fn a_sample_without_the_highest_point_record_is_refused() {
+        // A reference written before criterion 4 must be made again, not read as one whose
+        // profiles had no highest-point BIP.
+        let old = r#"{"pose":0,"seed":1,"photons":0,"bip_error_mm":0.1,"bip_mm":null,"z_mm":[]}"#;
+        let e = serde_json::from_str::<ProfileSample>(old).unwrap_err();
+        assert!(e.to_string().contains("missing field `highest`"), "{e}");
     }
 
     #[test]

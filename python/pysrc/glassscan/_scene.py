@@ -194,9 +194,11 @@ class Scene:
         ``pose_NNN``, for any thread count. Releases the GIL while it runs.
 
         Args:
-            photons: laser photons traced (1000 to 2⁴⁰; 2¹⁸, the default, is converged), or
-                ``"auto"``: the pose stops once its edge-line BIP has converged, after 2¹⁷
-                or 2¹⁸ photons (``stats["photons"]`` says how many), as ``--photons auto``.
+            photons: laser photons traced (1000 to 2⁴⁰; 2¹⁸, the default, is converged
+                on the shipped pane at 10° and 40°, not by every criterion at 45°:
+                validation/results/convergence in the repository), or ``"auto"``: the
+                pose stops once its edge-line BIP has converged, after 2¹⁷ or 2¹⁸ photons
+                (``stats["photons"]`` says how many), as ``--photons auto``.
             seed: master seed of every random number.
             max_depth: longest photon path, in surface interactions (1 to 4096).
             threads: worker threads (default: all cores); results do not depend on it.
