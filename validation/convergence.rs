@@ -4,7 +4,7 @@
 //! count known to be too low (2^14) must fail, so the test has the power to see a difference;
 //! the adaptive count (`--photons auto`) must pass where its results say it does; at 45°, where
 //! the default is not converged by every criterion, the criteria it meets must keep holding. Slow tier
-//! (`cargo test --release -- --ignored`, ~3 min on 2 cores for the four tests): the committed references were made
+//! (`cargo test --release -- --ignored`, ~2 min on 2 cores for the four tests): the committed references were made
 //! by `examples/convergence.rs` (which documents the seeds and poses), and must be regenerated
 //! with it when the physics or the sensor's noise streams change.
 
