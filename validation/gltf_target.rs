@@ -172,7 +172,8 @@ fn the_window_read_back_from_gltf_has_the_panels_border_profiles_and_pose() {
     assert!((rp.bip_error_mm.mean - rm.bip_error_mm.mean).abs() < 1e-3);
     assert!((ep.0 - em.0).abs() < 1e-3 && (ep.1 - em.1).abs() < 1e-4);
     assert!(apart.translation.vector.norm() < 1e-6);
-    assert!(apart.rotation.angle().to_degrees() < 1e-4);
+    // 2e-4° turns a point 0.3 m from the axis (the window's size) by 1 µm.
+    assert!(apart.rotation.angle().to_degrees() < 2e-4);
 }
 
 /// A mesh target without a border stops `locate` before any work with exit code 2, naming the
