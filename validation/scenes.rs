@@ -8,7 +8,7 @@ use glassscan::scan::simulate::simulate_pose;
 use glassscan::scene;
 use glassscan::sensor::path_class::PathClass;
 use glassscan::sensor::SensorHead;
-use glassscan::transport::{TraceScene, TraceSettings};
+use glassscan::transport::{TraceScene, TraceSettings, DEFAULT_PHOTONS};
 use nalgebra::Point3;
 
 fn scene_path(name: &str) -> std::path::PathBuf {
@@ -363,7 +363,7 @@ fn edge_study_tape_is_read_on_its_surface_at_10_and_40_degrees() {
 /// and 4 × 4 at 2^20: flat ground at 40° misses p_e by more than 0.5 mm in 19 of 32 profiles at
 /// 2^16 and 7–8 of 16 at 2^20 (before and after issue 11's beam sampling alike: physics and
 /// rule, not Monte Carlo noise); the 0.4 mm seam in 2–4 of 32 at 2^16; the default 0.8 mm seam
-/// in none of 32. Sensor only, true pose known, the default 2^18 photons, seed 5, 2 poses. (At
+/// in none of 32. Sensor only, true pose known, the default photon count (2^18), seed 5, 2 poses. (At
 /// 2^16, since the fan's focus on p_e narrowed to ±2 mm, two pencil-edge poses fail: a lone
 /// noisy edge return nearer p_e than the chain, 0.4 of the photons off the window, sets the
 /// bar; at 2^18 the nearest edge return and the BIP are the same point at 10° and 0.74/0.86
@@ -391,7 +391,7 @@ fn edge_line_bips_land_on_p_e_on_simulated_flat_seamed_and_pencil_edges() {
         ),
     ];
     let settings = TraceSettings {
-        photons: 1 << 18,
+        photons: DEFAULT_PHOTONS,
         adaptive: false,
         max_depth: 16,
         seed: 5,
