@@ -21,8 +21,10 @@
 //!   flux there: a glint.
 //! - Diffuse vertices continue with cosine sampling and Russian roulette on the albedo.
 //!
-//! Bias: the path-length cap `max_depth` (reported as `truncated_power_w`), and the connection
-//! chains' limits stated in `connect` (only transmitted chains from two seeds).
+//! Bias: the path-length cap `max_depth` and the cut of light trapped in a pane by total
+//! internal reflection once it is 50 mm off the view (both reported as `truncated_power_w`),
+//! and the connection chains' limits stated in `connect` (only transmitted chains from two
+//! seeds).
 //!
 //! Determinism: every random number is a function of (seed, pose, photon, dimension); photons
 //! are processed in fixed-size chunks whose splats are summed in chunk order, so the images
