@@ -127,17 +127,21 @@ const ROULETTE_MARGIN_M: f64 = 0.05;
 const REFLECTED_INSIDE_ROULETTE_MARGIN_M: f64 = 0.01;
 
 /// Light trapped in a pane by total internal reflection that survived the roulette ends where
-/// it first meets a surface this far from the view (`Aperture::far_from_view`), its power
-/// counted in `TraceStats::truncated_power_w`. The bias, measured on edge_study_bare at 45° and
-/// car_side_window (2²⁰ photons, 4 poses each, same seed with and without the cut): 0.6–2.7·10⁻⁴
-/// and 1–3·10⁻⁶ of the light on the sensor, 117–160 and 6–15 pixels of 532,480 changed (up to
-/// 463 DN: the removed light arrives as the 8× survivors' rare spikes), profile points moved by
-/// at most 4.2 µm in at most 3 columns; the default study's finding map lost 3 spurious
-/// highest-point BIPs (benches/README.md, 2026-12-06: trapped light cut far from the view).
-const TRAPPED_LIGHT_CUT_MARGIN_M: f64 = 0.05;
+/// it first meets a surface this far from the view (`Aperture::far_from_view`; the margin of
+/// partial internal reflections' roulette too), its power counted in
+/// `TraceStats::truncated_power_w`. The bias, measured on edge_study_bare at 45° and
+/// car_side_window (2²⁰ photons, 4 poses each, same seed with and without the cut): 1.8·10⁻⁴–
+/// 1.4·10⁻³ and 1·10⁻⁵–2·10⁻⁴ of the light on the sensor, 87–348 pixels of 532,480 changed,
+/// single pixels by up to full scale (the removed light arrives as the 8× survivors' rare
+/// spikes), profile points moved by at most 4.2 µm in at most 3 columns of 640 and one point of
+/// 2,560 changed validity; the convergence test's verdicts are unchanged and the default
+/// study lost spurious highest-point BIPs (benches/README.md, 2026-12-06: trapped light cut
+/// far from the view). At 50 mm the cut saved half as many vertices.
+const TRAPPED_LIGHT_CUT_MARGIN_M: f64 = 0.01;
 
 /// The survival probability of that roulette: a survivor carries 8× its flux, so a rare one
-/// that comes back into view adds a small spike, not a firefly.
+/// that comes back into view adds a spike (in single pixels up to full scale, measured
+/// 2026-12-06); trapped survivors are cut 10 mm off the view (`TRAPPED_LIGHT_CUT_MARGIN_M`).
 const ROULETTE_SURVIVAL: f64 = 0.125;
 
 /// Key word of the roulette's own random stream.
@@ -502,9 +506,9 @@ impl Tracer<'_> {
                     .aperture
                     .far_from_view(&hit.point, TRAPPED_LIGHT_CUT_MARGIN_M)
             {
-                // A survivor of that roulette ends where it first meets a surface 50 mm off the
+                // A survivor of that roulette ends where it first meets a surface 10 mm off the
                 // view: a pane guides it hundreds of mm (half of the survivors used to reach
-                // max_depth) for 16 % of the vertices, and what it brings back is a few rare
+                // max_depth) for 28 % of the vertices, and what it brings back is a few rare
                 // 8× spikes, not light the profile rests on. A stated bias, like max_depth.
                 self.stats.truncated += 1;
                 self.stats.truncated_power_w += photon.flux;
