@@ -92,6 +92,13 @@ pub struct TraceStats {
 }
 
 impl TraceStats {
+    /// A path cut while it still carried `power_w` (W): at `max_depth` or by the trapped-light
+    /// cut, the two biases `truncated_power_w` bounds.
+    fn count_cut(&mut self, power_w: f64) {
+        self.truncated += 1;
+        self.truncated_power_w += power_w;
+    }
+
     fn add(&mut self, o: &TraceStats) {
         self.photons += o.photons;
         self.laser_hits += o.laser_hits;
@@ -506,12 +513,9 @@ impl Tracer<'_> {
                     .aperture
                     .far_from_view(&hit.point, TRAPPED_LIGHT_CUT_MARGIN_M)
             {
-                // A survivor of that roulette ends where it first meets a surface 10 mm off the
-                // view: a pane guides it hundreds of mm (half of the survivors used to reach
-                // max_depth) for 28 % of the vertices, and what it brings back is a few rare
-                // 8× spikes, not light the profile rests on. A stated bias, like max_depth.
-                self.stats.truncated += 1;
-                self.stats.truncated_power_w += photon.flux;
+                // A survivor of that roulette ends off the view: a stated bias, like max_depth
+                // (TRAPPED_LIGHT_CUT_MARGIN_M says why and how large).
+                self.stats.count_cut(photon.flux);
                 return;
             }
             self.stats.vertices += 1;
@@ -548,8 +552,7 @@ impl Tracer<'_> {
                 return;
             }
             if depth + 1 == self.settings.max_depth {
-                self.stats.truncated += 1;
-                self.stats.truncated_power_w += photon.flux;
+                self.stats.count_cut(photon.flux);
             }
         }
     }
