@@ -74,6 +74,9 @@ fn bench_icp(c: &mut Criterion) {
     });
     // Many registrations against one model (a sweep, a Monte Carlo study) build its grid once.
     let grid = SegmentGrid::new(&model);
+    group.bench_function("segment_grid_build_484_segments", |b| {
+        b.iter(|| SegmentGrid::new(&model))
+    });
     group.bench_function("register_12_bips_484_segments_grid_built", |b| {
         b.iter(|| register_on_grid(&model, &grid, &bips, &nominal, &settings).expect("valid input"))
     });
