@@ -92,6 +92,19 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // The same rays eight at a time (`SceneAccel::closest_hits`, the tracer's primary rays).
+    let mut hits = Vec::with_capacity(n as usize);
+    for (name, rays) in [
+        ("closest_hits_laser_fan_packets", fan_rays(n)),
+        ("closest_hits_random_packets", random_rays(n)),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                accel.closest_hits(&rays, 0.0, 10.0, &mut hits);
+                hits.iter().filter(|h| h.is_some()).count()
+            })
+        });
+    }
     let rays = random_rays(n);
     g.bench_function("occlusion_random", |b| {
         b.iter(|| {

@@ -27,8 +27,11 @@
 //! (`closest_hit_leaving`), so no offset moves a ray's line.
 
 mod build;
-mod queries;
 // std::arch intrinsics (SIMD loads, AVX2 behind runtime detection): the crate's only unsafe code.
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod packet;
+mod queries;
 #[allow(unsafe_code)]
 mod traverse;
 #[allow(unsafe_code)]
@@ -258,6 +261,49 @@ impl SceneAccel {
         let mut q = Closest::new(&ray, self.hit_data());
         traverse(&self.bvh, self.simd, &ray, &mut q);
         q.found().map(|f| self.make_bvh_hit(f, &ray, origin, dir))
+    }
+
+    /// [`SceneAccel::closest_hit`] of each ray `(origin, unit dir)`, equal to it bit for bit,
+    /// into `hits` (cleared first). Where the CPU has AVX2 the rays are traversed eight at a
+    /// time (`packet`): for coherent rays, such as the laser fan's in fan order, 1.7× the
+    /// single-ray rate (`benches/bvh.rs`); any rays are allowed, but incoherent ones run
+    /// 10–25 % slower than one at a time.
+    pub fn closest_hits(
+        &self,
+        rays: &[(Point3<f64>, Vector3<f64>)],
+        t_min: f64,
+        t_max: f64,
+        hits: &mut Vec<Option<Hit>>,
+    ) {
+        hits.clear();
+        #[cfg(target_arch = "x86_64")]
+        if self.simd == Simd::Avx2 {
+            for group in rays.chunks(packet::PACKET) {
+                let n = group.len();
+                // A short last group repeats its first ray in the unused lanes (never traced).
+                let bvh_rays: [Ray; packet::PACKET] = std::array::from_fn(|k| {
+                    let (o, d) = &group[if k < n { k } else { 0 }];
+                    to_ray(o, d, t_min, t_max)
+                });
+                let mut visitors: [Closest; packet::PACKET] =
+                    std::array::from_fn(|k| Closest::new(&bvh_rays[k], self.hit_data()));
+                // SAFETY: `Simd::Avx2` is only chosen where the CPU has AVX2.
+                #[allow(unsafe_code)]
+                unsafe {
+                    packet::traverse_packet(&self.bvh, &bvh_rays[..n], &mut visitors[..n])
+                };
+                hits.extend(
+                    (visitors.iter().zip(&bvh_rays).zip(group)).map(|((q, ray), (o, d))| {
+                        q.found().map(|f| self.make_bvh_hit(f, ray, o, d))
+                    }),
+                );
+            }
+            return;
+        }
+        hits.extend(
+            rays.iter()
+                .map(|(o, d)| self.closest_hit(o, d, t_min, t_max)),
+        );
     }
 
     /// The closest hit along a ray that starts exactly on a surface, at `origin` on triangle
@@ -718,6 +764,71 @@ mod tests {
             "u {u} v {v}"
         );
         assert!((h.geometric_normal - Vector3::z()).norm() < 1e-12);
+    }
+
+    /// Rays traced eight at a time give each ray's own closest hit, every field bit for bit:
+    /// a coherent fan over a height field (its rays slipping through shared edges and
+    /// vertices), incoherent rays with mixed direction signs through a cloud, axis-aligned
+    /// directions with zero components, rays that start inside the geometry, miss it or stop
+    /// short of it (t_min, t_max), and a last packet that is not full.
+    #[test]
+    fn packets_of_rays_hit_what_each_ray_hits() {
+        let mut tris = height_field(40);
+        tris.extend(cloud(1500));
+        let mut accel = SceneAccel::build(tris);
+        let source = Point3::new(0.013, -0.007, 0.35);
+        let mut rays: Vec<(Point3<f64>, Vector3<f64>)> = (0..2003)
+            .map(|i| {
+                // A fan in one plane, a thin spread across it, as the laser's.
+                let a = -0.6 + 1.2 * (i as f64 + 0.5) / 2003.0;
+                let b = 2e-3 * (hash_uniform(i) - 0.5);
+                let d = Vector3::new(a.sin(), b, -a.cos()).normalize();
+                (source, d)
+            })
+            .collect();
+        rays.extend((0..1500u64).map(|i| {
+            let u = |k: u64| 2.0 * hash_uniform(7 * i + k) - 1.0;
+            let origin = Point3::new(0.6 * u(1), 0.6 * u(2), 0.6 * u(3));
+            let d = Vector3::new(u(4), u(5), u(6));
+            (origin, d.try_normalize(1e-9).unwrap_or_else(Vector3::z))
+        }));
+        for (k, d) in [Vector3::x(), -Vector3::y(), -Vector3::z(), Vector3::z()]
+            .into_iter()
+            .enumerate()
+        {
+            rays.extend((0..37).map(|i| {
+                (
+                    Point3::new(-0.4 + 0.02 * i as f64, 0.1 * k as f64 - 0.2, 0.2),
+                    d,
+                )
+            }));
+        }
+        let mut hits = Vec::new();
+        for (t_min, t_max) in [(0.0, 10.0), (0.1, 0.45), (0.0, 0.2)] {
+            for simd in Simd::available() {
+                accel.simd = simd;
+                accel.closest_hits(&rays, t_min, t_max, &mut hits);
+                assert_eq!(hits.len(), rays.len());
+                let mut found = 0;
+                for (i, ((o, d), h)) in rays.iter().zip(&hits).enumerate() {
+                    let single = accel.closest_hit(o, d, t_min, t_max);
+                    found += single.is_some() as usize;
+                    let bits = |h: &Option<Hit>| {
+                        h.map(|h| {
+                            (
+                                h.triangle,
+                                h.t.to_bits(),
+                                h.barycentric.map(f64::to_bits),
+                                h.point.coords.map(f64::to_bits),
+                            )
+                        })
+                    };
+                    assert_eq!(*h, single, "{simd:?} ray {i}, t in [{t_min}, {t_max}]");
+                    assert_eq!(bits(h), bits(&single), "{simd:?} ray {i}");
+                }
+                assert!(found > 100, "{found} of {} rays hit", rays.len());
+            }
+        }
     }
 
     /// Regression: a direction with a −0.0 component (`-Vector3::z()`) missed everything in

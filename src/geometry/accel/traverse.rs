@@ -31,7 +31,7 @@ pub(super) const FAR_SCALE: f32 = 1.0 + 1.0 / 1_048_576.0;
 const MIN_DIR: f32 = 1e-18;
 
 /// Stack entries kept on the call stack; a deeper BVH (a pathological scene) gets a heap stack.
-const STACK: usize = 256;
+pub(super) const STACK: usize = 256;
 
 /// Which node test the CPU runs, detected once per BVH.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,17 +89,17 @@ pub(super) trait Visitor {
 }
 
 /// The ray's per-traversal constants.
-struct Prepared {
-    origin: [f32; 3],
-    inv: [f32; 3],
+pub(super) struct Prepared {
+    pub origin: [f32; 3],
+    pub inv: [f32; 3],
     /// Plane index (into `Node::planes`) of the near and far side per axis.
     near: [usize; 3],
     far: [usize; 3],
-    t_min: f32,
+    pub t_min: f32,
 }
 
 impl Prepared {
-    fn new(ray: &Ray) -> Prepared {
+    pub fn new(ray: &Ray) -> Prepared {
         let mut inv = [0.0; 3];
         let mut near = [0; 3];
         let mut far = [0; 3];
