@@ -492,15 +492,12 @@ impl Tracer<'_> {
     /// Follows photon `i`, as [`Tracer::emit`] made it, from `first_hit`, its laser ray's
     /// closest hit (`closest_hit(origin, dir, 0, FAR_M)`).
     fn walk(&mut self, i: u64, mut photon: Photon, [l1, l2]: [f64; 2], first_hit: Option<Hit>) {
-        let mut first_hit = Some(first_hit);
         for depth in 0..self.settings.max_depth {
             let accel = &self.scene.accel;
-            let hit = match (first_hit.take(), photon.leaving) {
-                (Some(hit), _) => hit,
-                (None, None) => accel.closest_hit(&photon.origin, &photon.dir, 0.0, FAR_M),
-                (None, Some(tri)) => {
-                    accel.closest_hit_leaving(&photon.origin, &photon.dir, tri, FAR_M)
-                }
+            let hit = match photon.leaving {
+                _ if depth == 0 => first_hit,
+                None => accel.closest_hit(&photon.origin, &photon.dir, 0.0, FAR_M),
+                Some(tri) => accel.closest_hit_leaving(&photon.origin, &photon.dir, tri, FAR_M),
             };
             if photon.all_specular && depth > 0 {
                 let t_max = hit.as_ref().map_or(FAR_M, |h| h.t);
