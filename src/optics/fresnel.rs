@@ -21,8 +21,6 @@
 //! the retardance δ = δ_s − δ_p given by tan(δ/2) = cos θ_i·√(sin²θ_i − η²)/sin²θ_i
 //! (Born & Wolf, *Principles of Optics*, 7th ed., §1.5.4).
 
-use std::f64::consts::PI;
-
 /// Power reflection and transmission coefficients of a smooth dielectric interface, per
 /// polarisation, with the angles and the reflection retardance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,14 +40,24 @@ pub struct FresnelDielectric {
     pub t_p: f64,
     /// Total internal reflection: sin θ_i > η, no transmitted beam.
     pub tir: bool,
-    /// Retardance of the reflected beam, δ_s − δ_p = arg r_s − arg r_p (rad). Outside total
-    /// internal reflection r_s and r_p are real and this is 0 (same sign) or π (opposite
-    /// signs) in the frames of the module docs; under it, 2·atan(cos θ_i·√(sin²θ_i − η²)/
-    /// sin²θ_i) ∈ [0, π).
-    pub retardance_r: f64,
+    /// cos δ of the retardance of the reflected beam, δ = δ_s − δ_p = arg r_s − arg r_p
+    /// ([`FresnelDielectric::retardance_r`]). Outside total internal reflection r_s and r_p
+    /// are real and δ is 0 (same sign) or π (opposite signs) in the frames of the module docs:
+    /// cos δ = ±1, sin δ = 0 exactly; under it δ = 2·atan(x) with x = cos θ_i·√(sin²θ_i − η²)/
+    /// sin²θ_i, so cos δ = (1 − x²)/(1 + x²) and sin δ = 2x/(1 + x²) (the half-angle
+    /// identities: the Mueller matrix needs no trigonometric function, issue 11).
+    pub cos_retardance_r: f64,
+    /// sin δ of the same retardance, in [0, 1].
+    pub sin_retardance_r: f64,
 }
 
 impl FresnelDielectric {
+    /// Retardance of the reflected beam, δ_s − δ_p (rad) in [0, π]: 0 or π outside total
+    /// internal reflection, 2·atan(cos θ_i·√(sin²θ_i − η²)/sin²θ_i) ∈ [0, π) under it.
+    pub fn retardance_r(&self) -> f64 {
+        self.sin_retardance_r.atan2(self.cos_retardance_r)
+    }
+
     /// Unpolarised reflectance (R_s + R_p)/2.
     pub fn r(&self) -> f64 {
         0.5 * (self.r_s + self.r_p)
@@ -81,11 +89,12 @@ pub fn fresnel_dielectric(cos_theta_i: f64, eta: f64) -> FresnelDielectric {
         // Total internal reflection (Born & Wolf §1.5.4). At sin θ_i = η exactly both the TIR
         // and the ordinary formulas give R = 1 and δ = 0, so the boundary is continuous.
         let k = (sin2_i - eta * eta).max(0.0).sqrt();
-        let retardance_r = if sin2_i > 0.0 {
-            2.0 * (cos_i * k / sin2_i).atan()
+        let x = if sin2_i > 0.0 {
+            cos_i * k / sin2_i
         } else {
             0.0
         };
+        let x2 = x * x;
         return FresnelDielectric {
             cos_theta_i: cos_i,
             cos_theta_t: 0.0,
@@ -94,7 +103,8 @@ pub fn fresnel_dielectric(cos_theta_i: f64, eta: f64) -> FresnelDielectric {
             t_s: 0.0,
             t_p: 0.0,
             tir: true,
-            retardance_r,
+            cos_retardance_r: (1.0 - x2) / (1.0 + x2),
+            sin_retardance_r: 2.0 * x / (1.0 + x2),
         };
     }
     let cos_t = (1.0 - sin2_t).sqrt();
@@ -114,7 +124,8 @@ pub fn fresnel_dielectric(cos_theta_i: f64, eta: f64) -> FresnelDielectric {
         t_s,
         t_p,
         tir: false,
-        retardance_r: if rs * rp < 0.0 { PI } else { 0.0 },
+        cos_retardance_r: if rs * rp < 0.0 { -1.0 } else { 1.0 },
+        sin_retardance_r: 0.0,
     }
 }
 
@@ -127,6 +138,7 @@ pub fn fresnel_unpolarized(cos_theta_i: f64, eta: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn normal_incidence_gives_the_textbook_reflectance() {
@@ -134,7 +146,7 @@ mod tests {
         let f = fresnel_dielectric(1.0, 1.5);
         assert!((f.r_s - 0.04).abs() < 1e-15 && (f.r_p - 0.04).abs() < 1e-15);
         assert!((f.t_s - 0.96).abs() < 1e-15 && (f.t_p - 0.96).abs() < 1e-15);
-        assert_eq!(f.retardance_r, PI, "r_p = −r_s at normal incidence");
+        assert_eq!(f.retardance_r(), PI, "r_p = −r_s at normal incidence");
         // From inside the same interface reflects the same power (Stokes relations).
         let g = fresnel_dielectric(1.0, 1.0 / 1.5);
         assert!((g.r() - 0.04).abs() < 1e-15);
@@ -163,16 +175,39 @@ mod tests {
     }
 
     #[test]
+    fn the_retardance_s_cosine_and_sine_are_those_of_born_and_wolf_s_angle() {
+        // Under total internal reflection δ = 2·atan(cos θ_i·√(sin²θ_i − η²)/sin²θ_i) (Born &
+        // Wolf, *Principles of Optics*, §1.5.4): the half-angle forms against cos δ and sin δ.
+        let eta: f64 = 1.0 / 1.5208;
+        for k in 0..=200 {
+            let cos_i = k as f64 / 200.0;
+            let f = fresnel_dielectric(cos_i, eta);
+            let sin2_i = 1.0 - cos_i * cos_i;
+            let delta = if f.tir {
+                2.0 * (cos_i * (sin2_i - eta * eta).sqrt() / sin2_i).atan()
+            } else if f.cos_retardance_r < 0.0 {
+                PI
+            } else {
+                0.0
+            };
+            assert!((f.cos_retardance_r - delta.cos()).abs() < 1e-15, "{f:?}");
+            assert!((f.sin_retardance_r - delta.sin()).abs() < 1e-15, "{f:?}");
+            assert!((f.retardance_r() - delta).abs() < 1e-15, "{f:?}");
+        }
+    }
+
+    #[test]
     fn retardance_is_continuous_at_the_critical_angle() {
         let eta: f64 = 1.0 / 1.5;
         let crit = eta.asin();
         let below = fresnel_dielectric((crit - 1e-9).cos(), eta);
         let above = fresnel_dielectric((crit + 1e-9).cos(), eta);
         assert_eq!(
-            below.retardance_r, 0.0,
+            below.retardance_r(),
+            0.0,
             "internal, between Brewster and critical"
         );
-        assert!(above.tir && above.retardance_r < 1e-3);
-        assert_eq!(fresnel_dielectric(0.0, eta).retardance_r, 0.0);
+        assert!(above.tir && above.retardance_r() < 1e-3);
+        assert_eq!(fresnel_dielectric(0.0, eta).retardance_r(), 0.0);
     }
 }

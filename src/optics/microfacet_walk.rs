@@ -61,7 +61,7 @@ use nalgebra::Vector3;
 use super::fresnel::fresnel_dielectric;
 use super::height_correlated;
 use super::microfacet::{Ggx, RoughDielectric};
-use super::polarization::{apply, mueller_reflection, mueller_transmission, s_axis, Stokes};
+use super::polarization::{apply, mueller_reflection, mueller_transmission, Stokes};
 use super::refract::{reflect, refract};
 use super::uniform_stream::UniformSource;
 
@@ -199,7 +199,7 @@ impl MultipleScatteringDielectric {
         let (reflected, weight) = match stokes {
             None => (u[2] < fresnel.r(), 1.0),
             Some(s) => {
-                s.rotate_frame(&ray.d, &s_axis(&ray.d, &wm));
+                s.rotate_to_s_axis(&ray.d, &wm);
                 let r = apply(&mueller_reflection(&fresnel), &s.s);
                 let t = apply(&mueller_transmission(&fresnel), &s.s);
                 let total = r[0] + t[0];

@@ -72,23 +72,48 @@ impl Stokes {
     /// `dir`, the unit propagation direction). The physical beam is unchanged: only Q and U
     /// mix, by the rotator of the signed angle from the old frame to the new one about `dir`.
     pub fn rotate_frame(&mut self, dir: &Vector3<f64>, new_frame: &Vector3<f64>) {
+        self.rotate_to_unit_frame(dir, &perpendicular_unit(dir, new_frame));
+    }
+
+    /// [`Stokes::rotate_frame`] into the (s, p) basis of a surface with unit normal `n`
+    /// (either orientation) met along `dir`: the frame becomes [`s_axis`]`(dir, n)`. Away from normal
+    /// incidence that axis is unit and ⊥ `dir` to rounding by construction, so it is not
+    /// projected again (issue 11: the projection's two square roots were a third of the frame
+    /// rotations' time); within 10⁻⁶ rad of it, where d × n loses its relative precision, it
+    /// is.
+    pub fn rotate_to_s_axis(&mut self, dir: &Vector3<f64>, n: &Vector3<f64>) {
+        debug_assert!((n.norm() - 1.0).abs() < 1e-9, "n must be a unit normal");
+        let s = dir.cross(n);
+        let len = s.norm();
+        if len > 1e-6 {
+            self.rotate_to_unit_frame(dir, &(s / len));
+        } else {
+            self.rotate_frame(dir, &s_axis(dir, n));
+        }
+    }
+
+    /// The rotation to `new_frame`, a unit vector ⊥ `dir`.
+    fn rotate_to_unit_frame(&mut self, dir: &Vector3<f64>, new_frame: &Vector3<f64>) {
         debug_assert!(
             self.frame.dot(dir).abs() < 1e-6,
             "the current frame must be ⊥ to the direction of propagation"
         );
-        let new_frame = perpendicular_unit(dir, new_frame);
+        debug_assert!(
+            (new_frame.norm() - 1.0).abs() < 1e-9 && new_frame.dot(dir).abs() < 1e-9,
+            "the new frame must be a unit vector ⊥ to the direction of propagation"
+        );
         // The rotator of `rotator(θ)` needs only cos 2θ and sin 2θ, and cos θ, sin θ are the
         // two dot products: the double-angle identities replace atan2 and sin_cos (13 % of a
         // glass profile's time, issue 11), equal to the matrix form to rounding (tested).
         let (c, s) = (
-            self.frame.dot(&new_frame),
-            dir.dot(&self.frame.cross(&new_frame)),
+            self.frame.dot(new_frame),
+            dir.dot(&self.frame.cross(new_frame)),
         );
         let r2 = c * c + s * s;
         let (c2, s2) = ((c * c - s * s) / r2, 2.0 * c * s / r2);
         let [i, q, u, v] = self.s;
         self.s = [i, c2 * q + s2 * u, -s2 * q + c2 * u, v];
-        self.frame = new_frame;
+        self.frame = *new_frame;
     }
 
     /// Applies the Mueller matrix `m`, whose input and output frames are both `self.frame`.
@@ -107,8 +132,9 @@ impl Stokes {
 fn perpendicular_unit(dir: &Vector3<f64>, axis: &Vector3<f64>) -> Vector3<f64> {
     let p = axis - axis.dot(dir) * dir;
     let len = p.norm();
+    // Squared, so that the check takes no second square root.
     assert!(
-        len > 1e-9 * axis.norm(),
+        len * len > 1e-18 * axis.norm_squared(),
         "a reference axis must not be parallel to the direction"
     );
     p / len
@@ -156,9 +182,8 @@ pub fn rotator(theta: f64) -> Mueller {
 pub fn mueller_reflection(f: &FresnelDielectric) -> Mueller {
     let a = 0.5 * (f.r_s + f.r_p);
     let b = 0.5 * (f.r_s - f.r_p);
-    let (sin_d, cos_d) = f.retardance_r.sin_cos();
     let amp = (f.r_s * f.r_p).sqrt();
-    let (c, d) = (amp * cos_d, amp * sin_d);
+    let (c, d) = (amp * f.cos_retardance_r, amp * f.sin_retardance_r);
     [
         [a, b, 0.0, 0.0],
         [b, a, 0.0, 0.0],
@@ -237,6 +262,37 @@ mod tests {
         }
     }
     use crate::optics::fresnel::fresnel_dielectric;
+
+    #[test]
+    fn rotating_to_the_s_axis_is_rotating_the_frame_to_it() {
+        // The unprojected rotation to s = d × n / |d × n| against the general one, which
+        // projects its axis first, over normals on both sides; near normal incidence (where s
+        // is ill-conditioned and either frame serves) it still leaves a unit frame ⊥ d and
+        // the degree of linear polarisation unchanged.
+        let dir = Vector3::new(0.3, -0.2, 0.9).normalize();
+        let start = Stokes {
+            s: [1.0, 0.3, -0.5, 0.2],
+            frame: perpendicular_unit(&dir, &Vector3::x()),
+        };
+        for k in 0..24 {
+            let a = k as f64 * 0.27;
+            let n = Vector3::new(a.cos(), a.sin(), (a * 1.7).cos() * 2.0).normalize();
+            for n in [n, -n] {
+                let (mut x, mut y) = (start, start);
+                x.rotate_to_s_axis(&dir, &n);
+                y.rotate_frame(&dir, &s_axis(&dir, &n));
+                assert!((x.frame - y.frame).norm() < 1e-15, "{x:?} vs {y:?}");
+                for (p, q) in x.s.iter().zip(y.s) {
+                    assert!((p - q).abs() < 1e-14, "{x:?} vs {y:?}");
+                }
+            }
+            let mut x = start;
+            x.rotate_to_s_axis(&dir, &(dir + n * 1e-7).normalize());
+            assert!((x.frame.norm() - 1.0).abs() < 1e-15 && x.frame.dot(&dir).abs() < 1e-15);
+            let linear = |s: &Stokes| s.s[1].hypot(s.s[2]);
+            assert!((linear(&x) - linear(&start)).abs() < 1e-15);
+        }
+    }
 
     #[test]
     fn rotating_the_frame_by_45_degrees_turns_q_into_u() {

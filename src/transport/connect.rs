@@ -28,7 +28,7 @@ use crate::geometry::accel::Hit;
 use crate::geometry::mesh::SurfacePart;
 use crate::optics::fresnel::fresnel_dielectric;
 use crate::optics::lambert::orthonormal_basis;
-use crate::optics::polarization::{apply, mueller_transmission, s_axis, Stokes};
+use crate::optics::polarization::{apply, mueller_transmission, Stokes};
 use crate::optics::refract::refract;
 
 /// Most glass interfaces a connection chain may cross.
@@ -204,13 +204,13 @@ fn trace_chain<const RADIOMETRY: bool>(
             if f.tir {
                 return None;
             }
-            stokes.rotate_frame(&d, &s_axis(&d, &n));
+            stokes.rotate_to_s_axis(&d, &n);
             stokes.s = apply(&mueller_transmission(&f), &stokes.s);
             let intensity = stokes.s[0];
             transmittance *= intensity;
             let (wt, _) = refract(&(-d), &n, eta)?;
+            // The s axis of d and n is the transmitted beam's too (`interaction`).
             stokes.s = stokes.s.map(|v| v / intensity);
-            stokes.rotate_frame(&wt, &s_axis(&wt, &n));
             wt
         } else {
             // `fresnel_dielectric`'s test for total internal reflection, then Snell.

@@ -8,9 +8,7 @@ use crate::geometry::accel::Hit;
 use crate::optics::fresnel::fresnel_dielectric;
 use crate::optics::lambert::orthonormal_basis;
 use crate::optics::microfacet_walk::MultipleScatteringDielectric;
-use crate::optics::polarization::{
-    apply, mueller_reflection, mueller_transmission, s_axis, Stokes,
-};
+use crate::optics::polarization::{apply, mueller_reflection, mueller_transmission, Stokes};
 use crate::optics::refract::{reflect, refract};
 use crate::optics::uniform_stream::KeyedStream;
 
@@ -53,7 +51,7 @@ pub fn scatter_smooth(
     }
     let eta = if entering { glass.eta } else { 1.0 / glass.eta };
     let f = fresnel_dielectric(-dir.dot(&n), eta);
-    stokes.rotate_frame(dir, &s_axis(dir, &n));
+    stokes.rotate_to_s_axis(dir, &n);
     let reflected = apply(&mueller_reflection(&f), &stokes.s);
     let transmitted = apply(&mueller_transmission(&f), &stokes.s);
     let (pr, pt) = (reflected[0], transmitted[0]);
@@ -74,8 +72,9 @@ pub fn scatter_smooth(
         if wt.dot(&ng) >= 0.0 {
             return SmoothOutcome::Absorbed;
         }
+        // The frame s = d × n / |d × n| stays: the transmitted direction lies in the plane
+        // of d and n, so its own s axis, wt × n / |wt × n|, is the same vector.
         stokes.s = transmitted.map(|v| v / pt);
-        stokes.rotate_frame(&wt, &s_axis(&wt, &n));
         SmoothOutcome::Transmitted { dir: wt }
     }
 }

@@ -97,10 +97,10 @@ pub struct SceneAccel {
     exact: Vec<ExactTriangle>,
 }
 
-/// One triangle's f64 edge vectors, normal and Gram matrix (160 bytes, aligned so that they
+/// One triangle's f64 edge vectors, normals and Gram matrix (192 bytes, aligned so that they
 /// span three cache lines, not four).
 #[derive(Clone, Copy, Debug)]
-#[repr(align(32))]
+#[repr(align(64))]
 struct ExactTriangle {
     a: Point3<f64>,
     e1: Vector3<f64>,
@@ -116,6 +116,20 @@ struct ExactTriangle {
     d11: f64,
     /// d00·d11 − d01².
     det: f64,
+    /// How the shading normal varies over the triangle.
+    shading: Shading,
+}
+
+/// A triangle's shading normal.
+#[derive(Clone, Copy, Debug)]
+enum Shading {
+    /// Interpolated from three vertex normals that differ (a smooth, curved surface).
+    Smooth,
+    /// The same at every point: the three vertex normals are one vector (a flat facet of a
+    /// smooth-shaded mesh: a pane's faces, a seamed edge's arrisses), this unit vector. The
+    /// interpolation would give it back to rounding; taking it as it is skips a normalisation
+    /// per hit (issue 11).
+    Uniform(Vector3<f64>),
 }
 
 impl ExactTriangle {
@@ -124,17 +138,24 @@ impl ExactTriangle {
         let (e1, e2) = (b - a, c - a);
         let cross = e1.cross(&e2);
         let (d00, d01, d11) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
+        let normal = cross.normalize();
+        let shading = match t.normals {
+            Some([na, nb, nc]) if na != nb || na != nc => Shading::Smooth,
+            Some([na, ..]) => Shading::Uniform(na.try_normalize(1e-12).unwrap_or(normal)),
+            None => Shading::Uniform(normal),
+        };
         ExactTriangle {
             a,
             e1,
             e2,
             cross,
-            normal: cross.normalize(),
+            normal,
             cross_norm: cross.norm(),
             d00,
             d01,
             d11,
             det: d00 * d11 - d01 * d01,
+            shading,
         }
     }
 
@@ -410,10 +431,11 @@ impl SceneAccel {
     /// the triangle's Gram matrix; zero on a flat-shaded triangle. What ray differentials
     /// through smooth-shaded glass need (`transport::connect`'s analytic Jacobian).
     pub fn shading_normal_change(&self, tri: u32, uv: [f64; 2], dp: &Vector3<f64>) -> Vector3<f64> {
-        let Some([na, nb, nc]) = &self.input[tri as usize].normals else {
+        let x = &self.exact[tri as usize];
+        let (Shading::Smooth, Some([na, nb, nc])) = (x.shading, &self.input[tri as usize].normals)
+        else {
             return Vector3::zeros();
         };
-        let x = &self.exact[tri as usize];
         let (d20, d21) = (dp.dot(&x.e1), dp.dot(&x.e2));
         let du = (x.d11 * d20 - x.d01 * d21) / x.det;
         let dv = (x.d00 * d21 - x.d01 * d20) / x.det;
@@ -476,12 +498,13 @@ impl SceneAccel {
             let (t, u, v) = f32_hit();
             (t, u as f64, v as f64)
         };
-        let shading_normal = match &st.normals {
-            Some([na, nb, nc]) => {
+        let shading_normal = match (x.shading, &st.normals) {
+            (Shading::Uniform(n), _) => n,
+            (Shading::Smooth, Some([na, nb, nc])) => {
                 let n = na * (1.0 - u - v) + nb * u + nc * v;
                 n.try_normalize(1e-12).unwrap_or(geometric_normal)
             }
-            None => geometric_normal,
+            (Shading::Smooth, None) => unreachable!("a smooth triangle has vertex normals"),
         };
         Hit {
             t,
@@ -764,6 +787,44 @@ mod tests {
             "u {u} v {v}"
         );
         assert!((h.geometric_normal - Vector3::z()).norm() < 1e-12);
+    }
+
+    #[test]
+    fn a_flat_facet_shades_with_its_vertex_normal_and_a_curved_one_interpolates() {
+        // Both triangles lie in z = 1; the flat one's vertex normals are one tilted vector
+        // (a facet of a smooth-shaded mesh), the curved one's differ.
+        let n = Vector3::new(0.1, -0.2, 1.0).normalize();
+        let (na, nb, nc) = (Vector3::z(), Vector3::new(0.6, 0.0, 0.8), Vector3::y());
+        let mut flat = tri([0., 0., 1.], [1., 0., 1.], [0., 1., 1.], 0);
+        flat.normals = Some([n; 3]);
+        let mut curved = tri([2., 0., 1.], [3., 0., 1.], [2., 1., 1.], 1);
+        curved.normals = Some([na, nb, nc]);
+        let accel = SceneAccel::build(vec![flat, curved]);
+        for (x, y) in [(0.2, 0.3), (0.05, 0.9), (0.6, 0.1)] {
+            let h = accel
+                .closest_hit(&Point3::new(x, y, 0.0), &Vector3::z(), 0.0, 5.0)
+                .unwrap();
+            let [u, v] = h.barycentric;
+            let interpolated = (n * (1.0 - u - v) + n * u + n * v).normalize();
+            assert_eq!(h.shading_normal, n.normalize());
+            assert!((h.shading_normal - interpolated).norm() < 1e-15);
+            assert_eq!(
+                accel.shading_normal_change(h.triangle, h.barycentric, &Vector3::x()),
+                Vector3::zeros()
+            );
+            let h = accel
+                .closest_hit(&Point3::new(2.0 + x, y, 0.0), &Vector3::z(), 0.0, 5.0)
+                .unwrap();
+            let [u, v] = h.barycentric;
+            let interpolated = (na * (1.0 - u - v) + nb * u + nc * v).normalize();
+            assert_eq!(h.shading_normal, interpolated);
+            assert!(
+                accel
+                    .shading_normal_change(h.triangle, h.barycentric, &Vector3::x())
+                    .norm()
+                    > 0.1
+            );
+        }
     }
 
     /// Rays traced eight at a time give each ray's own closest hit, every field bit for bit:
