@@ -82,9 +82,13 @@ impl RimPoint {
 }
 
 /// Samples `outline` into a counter-clockwise polyline whose segments are no longer than
-/// `tessellation_m` and, on arcs, subtend at most 10°. The face points equal the outline
-/// points (no inset yet).
-pub(super) fn sample(outline: &Outline, tessellation_m: f64) -> Result<Vec<RimPoint>, PanelError> {
+/// `tessellation_m` on arcs, where they also subtend at most 10°, and `straight_m` on straight
+/// runs. The face points equal the outline points (no inset yet).
+pub(super) fn sample(
+    outline: &Outline,
+    tessellation_m: f64,
+    straight_m: f64,
+) -> Result<Vec<RimPoint>, PanelError> {
     let (corners, r) = corners(outline)?;
     let n = corners.len();
     let dir = |i: usize| (corners[(i + 1) % n] - corners[i]).normalize();
@@ -128,7 +132,7 @@ pub(super) fn sample(outline: &Outline, tessellation_m: f64) -> Result<Vec<RimPo
         out.extend_from_slice(if merged { &arc[..arc.len() - 1] } else { arc });
         if !merged {
             let normal = right(&dir(i));
-            let steps = segments(length / tessellation_m);
+            let steps = segments(length / straight_m);
             for k in 1..steps {
                 let t = k as f64 / steps as f64;
                 out.push(RimPoint::smooth(
@@ -314,21 +318,29 @@ mod tests {
     #[test]
     fn rounded_rectangle_is_ccw_fine_and_on_its_arcs() {
         let (w, h, r, s) = (0.55, 0.42, 0.02, 0.005);
-        let c = sample(&rect(w, h, r), s).unwrap();
-        let pts: Vec<_> = c.iter().map(|p| p.outline).collect();
-        assert!(polygon::signed_area(&pts) > 0.0);
-        for i in 0..c.len() {
-            let seg = c[(i + 1) % c.len()].outline - c[i].outline;
-            assert!(seg.norm() <= s * (1.0 + 1e-12));
-            let on_arc = c[i].normal_out != c[(i + 1) % c.len()].normal_in;
-            assert!(!on_arc || seg.norm() <= r * MAX_ARC_STEP);
-            assert!((c[i].normal_out.norm() - 1.0).abs() < 1e-15 && !c[i].is_sharp());
-            // Outward: the normal points away from the segment's left side.
-            assert!(seg.perp(&c[i].normal_out) < 0.0);
+        // Straight runs sampled as finely as the arcs, or ten times as coarsely (a flat
+        // panel's): the arcs are the same.
+        for straight in [s, 10.0 * s] {
+            let c = sample(&rect(w, h, r), s, straight).unwrap();
+            let pts: Vec<_> = c.iter().map(|p| p.outline).collect();
+            assert!(polygon::signed_area(&pts) > 0.0);
+            let mut longest: f64 = 0.0;
+            for i in 0..c.len() {
+                let seg = c[(i + 1) % c.len()].outline - c[i].outline;
+                let on_arc = c[i].normal_out != c[(i + 1) % c.len()].normal_in;
+                let limit = if on_arc { s } else { straight };
+                assert!(seg.norm() <= limit * (1.0 + 1e-12));
+                assert!(!on_arc || seg.norm() <= r * MAX_ARC_STEP);
+                assert!((c[i].normal_out.norm() - 1.0).abs() < 1e-15 && !c[i].is_sharp());
+                // Outward: the normal points away from the segment's left side.
+                assert!(seg.perp(&c[i].normal_out) < 0.0);
+                longest = longest.max(seg.norm());
+            }
+            assert!(longest > 0.9 * straight);
+            // Chord deficit of 10° arcs: perimeter of the rounded rectangle within 1e-4.
+            let exact = 2.0 * (w + h) - (8.0 - 2.0 * std::f64::consts::PI) * r;
+            assert!((perimeter(&c) / exact - 1.0).abs() < 1e-4);
         }
-        // Chord deficit of 10° arcs: perimeter of the rounded rectangle within 1e-4.
-        let exact = 2.0 * (w + h) - (8.0 - 2.0 * std::f64::consts::PI) * r;
-        assert!((perimeter(&c) / exact - 1.0).abs() < 1e-4);
     }
 
     #[test]
@@ -337,7 +349,7 @@ mod tests {
             vertices_m: vec![[0.0, 0.0], [0.3, 0.0], [0.0, 0.2]],
             corner_radius_m: 0.0,
         };
-        let mut c = sample(&tri, 0.05).unwrap();
+        let mut c = sample(&tri, 0.05, 0.05).unwrap();
         inset(&mut c, 0.004).unwrap();
         for i in 0..c.len() {
             let (a, b) = (&c[i], &c[(i + 1) % c.len()]);
@@ -354,7 +366,7 @@ mod tests {
             vertices_m: vec![[0.0, 0.0], [0.1, 0.0], [0.0, 0.1]],
             corner_radius_m: 0.05,
         };
-        let err = sample(&tri, 0.01).unwrap_err();
+        let err = sample(&tri, 0.01, 0.01).unwrap_err();
         assert!(matches!(
             err,
             PanelError::InvalidParameter {
@@ -371,15 +383,15 @@ mod tests {
             vertices_m: vec![[0.0, 0.0], [0.3, 0.0], [0.0, 0.2]],
             corner_radius_m: 0.0,
         };
-        assert!(inset(&mut sample(&wide, 0.05).unwrap(), 0.001).is_ok());
+        assert!(inset(&mut sample(&wide, 0.05, 0.05).unwrap(), 0.001).is_ok());
         let acute = Outline::Polygon {
             vertices_m: vec![[0.0, 0.0], [0.3, 0.0], [0.0, 0.1]],
             corner_radius_m: 0.0,
         };
-        let message = inset(&mut sample(&acute, 0.05).unwrap(), 0.001).unwrap_err();
+        let message = inset(&mut sample(&acute, 0.05, 0.05).unwrap(), 0.001).unwrap_err();
         assert!(message.contains("interior angle 18.4°"), "{message}");
         // Without an inset any corner will do.
-        assert!(inset(&mut sample(&acute, 0.05).unwrap(), 0.0).is_ok());
+        assert!(inset(&mut sample(&acute, 0.05, 0.05).unwrap(), 0.0).is_ok());
     }
 
     #[test]
@@ -388,7 +400,7 @@ mod tests {
             vertices_m: vec![[0.0, 0.0], [0.2, 0.0], [0.2, 0.003], [0.0, 0.003]],
             corner_radius_m: 0.0,
         };
-        let mut c = sample(&spike, 0.01).unwrap();
+        let mut c = sample(&spike, 0.01, 0.01).unwrap();
         assert!(inset(&mut c, 0.002).is_err());
         assert!(inset(&mut c, 0.001).is_ok());
     }

@@ -148,7 +148,7 @@ mod tests {
             height_m: side_m,
             corner_radius_m: 0.0,
         };
-        contour::sample(&outline, 0.005).unwrap()
+        contour::sample(&outline, 0.005, 0.005).unwrap()
     }
 
     #[test]

@@ -227,7 +227,7 @@ fn concave_l_shape_is_closed_sharp_and_rounded() {
         for (edge, removed) in profiles() {
             let panel = build(l_shape(r), edge.clone(), FLAT);
             check_closed_mesh(&panel);
-            check_border_frames(&panel.border);
+            check_border_frames(&panel.border, FLAT_FACE_GRID_M);
             let expected = area * T - removed * perimeter;
             assert!(
                 (volume(&panel.mesh) / expected - 1.0).abs() < 1e-3,
@@ -305,19 +305,34 @@ fn outlines_on_grid_lines_and_through_grid_corners_are_closed() {
 
 #[test]
 fn face_triangles_span_at_most_one_cell() {
-    let panel = build(rect(0.55, 0.42, 0.02), PENCIL, FLAT);
-    let mesh = &panel.mesh;
-    for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
-        if *part != SurfacePart::Edge {
-            let xs = t.map(|k| mesh.positions[k as usize].x);
-            let span = xs.iter().fold(f64::MIN, |a, &b| a.max(b))
-                - xs.iter().fold(f64::MAX, |a, &b| a.min(b));
-            assert!(span <= S * (1.0 + 1e-12));
+    // A bent panel's grid is the tessellation; a flat one's at least FLAT_FACE_GRID_M.
+    let bent = Curvature::Cylindrical { radius_m: 1.5 };
+    for (curvature, cell) in [(bent, S), (FLAT, FLAT_FACE_GRID_M)] {
+        let panel = build(rect(0.55, 0.42, 0.02), PENCIL, curvature);
+        let mesh = &panel.mesh;
+        let mut widest: f64 = 0.0;
+        for (t, part) in mesh.triangles.iter().zip(&mesh.parts) {
+            if *part != SurfacePart::Edge {
+                // The flat grid's x, i.e. the bent panel's arc length along x.
+                let xs = t.map(|k| {
+                    let p = mesh.positions[k as usize];
+                    match curvature {
+                        Curvature::Flat => p.x,
+                        Curvature::Cylindrical { radius_m } => radius_m * p.x.atan2(p.z + radius_m),
+                    }
+                });
+                let span = xs.iter().fold(f64::MIN, |a, &b| a.max(b))
+                    - xs.iter().fold(f64::MAX, |a, &b| a.min(b));
+                assert!(span <= cell * (1.0 + 1e-9), "{span} > {cell}");
+                widest = widest.max(span);
+            }
         }
+        assert!(widest > 0.9 * cell, "{widest} against {cell}");
     }
 }
 
-fn check_border_frames(border: &BorderCurve) {
+/// The border's frames, and its segments no longer than `longest_step` (m).
+fn check_border_frames(border: &BorderCurve, longest_step: f64) {
     let n = border.vertices.len();
     for (i, v) in border.vertices.iter().enumerate() {
         for (a, b) in [
@@ -331,10 +346,12 @@ fn check_border_frames(border: &BorderCurve) {
             assert!((d.norm() - 1.0).abs() < 1e-12);
         }
         // Counter-clockwise: the tangent follows the vertex order. Segments stay within the
-        // tessellation length (stretched by (R + t)/R on a bent top face).
+        // tessellation length (stretched by (R + t)/R on a bent top face), on a flat panel
+        // within FLAT_FACE_GRID_M, to which its straight runs are sampled (its arcs are
+        // sampled as a bent one's: `contour`'s tests).
         let step = border.vertices[(i + 1) % n].position - v.position;
         assert!(step.dot(&v.tangent) > 0.0);
-        assert!(step.norm() <= S * 1.003);
+        assert!(step.norm() <= longest_step * (1.0 + 1e-12));
     }
 }
 
@@ -351,7 +368,7 @@ fn border_curve_is_the_inset_outline_at_the_top_face() {
         "{} vs {expected}",
         border.length()
     );
-    check_border_frames(border);
+    check_border_frames(border, FLAT_FACE_GRID_M);
     for v in &border.vertices {
         assert_eq!(v.position.z, T);
         assert_eq!(v.surface_normal, Vector3::z());
@@ -366,7 +383,7 @@ fn border_curve_is_the_inset_outline_at_the_top_face() {
 fn border_curve_follows_the_bend() {
     let radius = 1.5;
     let panel = build(rect(0.55, 0.42, 0.02), PENCIL, bend(radius));
-    check_border_frames(&panel.border);
+    check_border_frames(&panel.border, S * 1.003);
     let axis = Point3::new(0.0, 0.0, -radius);
     for v in &panel.border.vertices {
         let radial = Vector3::new(v.position.x - axis.x, 0.0, v.position.z - axis.z);
@@ -528,7 +545,7 @@ fn border_runs_through_mesh_vertices_at_the_top_face_boundary() {
             .iter()
             .map(|p| [p.x, p.y, p.z].map(|c| (c + 0.0).to_bits()))
             .collect();
-        check_border_frames(&panel.border);
+        check_border_frames(&panel.border, FLAT_FACE_GRID_M);
         for v in &panel.border.vertices {
             let p = v.position;
             assert!(
