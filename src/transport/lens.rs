@@ -164,9 +164,13 @@ fn distance_to_quad(p: [f64; 2], quad: &[[f64; 2]; 4]) -> f64 {
             let ap = [p[0] - a[0], p[1] - a[1]];
             let t =
                 ((ap[0] * ab[0] + ap[1] * ab[1]) / (ab[0] * ab[0] + ab[1] * ab[1])).clamp(0.0, 1.0);
-            (ap[0] - t * ab[0]).hypot(ap[1] - t * ab[1])
+            let (dx, dy) = (ap[0] - t * ab[0], ap[1] - t * ab[1]);
+            dx * dx + dy * dy
         })
         .fold(f64::INFINITY, f64::min)
+        // One square root of the least squared distance: `hypot` per side was a third of the
+        // far-from-view test, which runs at every vertex (issue 11).
+        .sqrt()
 }
 
 #[cfg(test)]
