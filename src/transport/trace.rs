@@ -220,13 +220,60 @@ impl PhotonSets {
 /// the samples for about 0.1 more connections per photon.
 pub const IMPERFECTION_CONNECTION_RATE: f64 = 0.05;
 
-/// The uniforms of a glass vertex.
-struct GlassUniforms {
-    lens: [f64; 2],
-    fresnel: f64,
-    diffuse: [f64; 2],
-    imperfection: f64,
-    imperfection_connection: f64,
+/// The random numbers of one vertex, each drawn when it is first needed. Every one is a pure
+/// function of (seed, pose, photon, dimension), so drawing only those a vertex uses (a smooth
+/// face needs three of the eight dimensions and no microfacet stream) changes none of them.
+#[derive(Clone, Copy)]
+struct VertexUniforms {
+    sampler: PoseSampler,
+    photon: u64,
+    /// The vertex's first sampler dimension.
+    base: u32,
+    /// At the laser's first hit, the lattice's aperture point (`Tracer::emit`).
+    first_lens: Option<[f64; 2]>,
+    /// Key of the microfacet walks' stream: (seed, pose, photon, depth).
+    walk_key: [u64; 4],
+}
+
+impl VertexUniforms {
+    fn u(&self, k: u32) -> f64 {
+        self.sampler.uniform(self.photon, self.base + k)
+    }
+
+    /// The aperture point of the camera connection (unit square).
+    fn lens(&self) -> [f64; 2] {
+        self.first_lens.unwrap_or_else(|| [self.u(0), self.u(1)])
+    }
+
+    /// The Fresnel split at a smooth face.
+    fn fresnel(&self) -> f64 {
+        self.u(2)
+    }
+
+    /// A diffuse continuation's direction.
+    fn diffuse(&self) -> [f64; 2] {
+        [self.u(3), self.u(4)]
+    }
+
+    /// A smooth face's choice of imperfection scattering.
+    fn imperfection(&self) -> f64 {
+        self.u(5)
+    }
+
+    /// A diffuse surface's Russian roulette on its albedo.
+    fn albedo_roulette(&self) -> f64 {
+        self.u(6)
+    }
+
+    /// A smooth face's choice of an imperfection connection.
+    fn imperfection_connection(&self) -> f64 {
+        self.u(7)
+    }
+
+    /// The rough edge's microfacet walks.
+    fn walk(&self) -> KeyedStream {
+        KeyedStream::new(&self.walk_key)
+    }
 }
 
 /// Sampler dimensions used per surface interaction beyond the laser's own.
@@ -552,34 +599,16 @@ impl Tracer<'_> {
                 return;
             }
             self.stats.vertices += 1;
-            let base = 1 + depth * DIMS_PER_VERTEX;
-            let lens_u = if depth == 0 {
-                [l1, l2]
-            } else {
-                [
-                    self.sampler.uniform(i, base),
-                    self.sampler.uniform(i, base + 1),
-                ]
+            let u = VertexUniforms {
+                sampler: *self.sampler,
+                photon: i,
+                base: 1 + depth * DIMS_PER_VERTEX,
+                first_lens: (depth == 0).then_some([l1, l2]),
+                walk_key: [self.settings.seed, self.pose_index, i, depth as u64],
             };
-            let u = |k: u32| self.sampler.uniform(i, base + k);
-            let (uc, u2) = (u(2), [u(3), u(4)]);
-            let (u_pick, u_rr, u_dust) = (u(5), u(6), u(7));
-            let walk = KeyedStream::new(&[self.settings.seed, self.pose_index, i, depth as u64]);
-
             let alive = match self.scene.surfaces[hit.material as usize] {
-                SurfaceModel::Lambertian(l) => {
-                    self.opaque_vertex(&mut photon, &hit, l, lens_u, u2, u_rr)
-                }
-                SurfaceModel::Glass(g) => {
-                    let u = GlassUniforms {
-                        lens: lens_u,
-                        fresnel: uc,
-                        diffuse: u2,
-                        imperfection: u_pick,
-                        imperfection_connection: u_dust,
-                    };
-                    self.glass_vertex(&mut photon, &hit, &g, u, walk)
-                }
+                SurfaceModel::Lambertian(l) => self.opaque_vertex(&mut photon, &hit, l, u),
+                SurfaceModel::Glass(g) => self.glass_vertex(&mut photon, &hit, &g, u),
             };
             if !alive {
                 return;
@@ -596,9 +625,7 @@ impl Tracer<'_> {
         photon: &mut Photon,
         hit: &Hit,
         lambert: Lambertian,
-        lens_u: [f64; 2],
-        u2: [f64; 2],
-        u_rr: f64,
+        u: VertexUniforms,
     ) -> bool {
         let (ng, ns) = facing_normals(hit, &photon.dir);
         // Light that crossed glass is seen where the glass put it; light that glass reflected
@@ -619,13 +646,13 @@ impl Tracer<'_> {
             },
             class,
             false,
-            lens_u,
+            u.lens(),
         );
         photon.all_specular = false;
-        if u_rr >= lambert.albedo {
+        if u.albedo_roulette() >= lambert.albedo {
             return false;
         }
-        self.continue_diffuse(photon, hit, &ng, &ns, u2)
+        self.continue_diffuse(photon, hit, &ng, &ns, u.diffuse())
     }
 
     fn continue_diffuse(
@@ -652,8 +679,7 @@ impl Tracer<'_> {
         photon: &mut Photon,
         hit: &Hit,
         glass: &GlassSurface,
-        u: GlassUniforms,
-        walk: KeyedStream,
+        u: VertexUniforms,
     ) -> bool {
         let entering = photon.dir.dot(&hit.geometric_normal) < 0.0;
         if !entering {
@@ -663,14 +689,14 @@ impl Tracer<'_> {
         }
         let rough_edge = hit.part == SurfacePart::Edge && glass.edge_alpha > 0.0;
         if rough_edge {
-            let vertex = RoughVertex::new(hit, glass, &photon.dir, walk);
+            let vertex = RoughVertex::new(hit, glass, &photon.dir, u.walk());
             self.connect_vertex(
                 photon,
                 hit,
                 &Connectable::Rough(vertex),
                 PathClass::GlassEdge,
                 true,
-                u.lens,
+                u.lens(),
             );
             photon.all_specular = false;
             return match scatter_rough(&vertex, &mut photon.stokes) {
@@ -702,7 +728,7 @@ impl Tracer<'_> {
         // with the Russian roulette above.)
         let p = glass.face_imperfection;
         let q = p.max(IMPERFECTION_CONNECTION_RATE);
-        if p > 0.0 && u.imperfection_connection < q {
+        if p > 0.0 && u.imperfection_connection() < q {
             let (_, ns) = facing_normals(hit, &photon.dir);
             let class = if photon.internal_reflection {
                 PathClass::InternalReflection
@@ -719,15 +745,15 @@ impl Tracer<'_> {
                 },
                 class,
                 true,
-                u.lens,
+                u.lens(),
             );
         }
-        if u.imperfection < p {
+        if u.imperfection() < p {
             let (ng, ns) = facing_normals(hit, &photon.dir);
             photon.all_specular = false;
-            return self.continue_diffuse(photon, hit, &ng, &ns, u.diffuse);
+            return self.continue_diffuse(photon, hit, &ng, &ns, u.diffuse());
         }
-        match scatter_smooth(hit, glass, &photon.dir, &mut photon.stokes, u.fresnel) {
+        match scatter_smooth(hit, glass, &photon.dir, &mut photon.stokes, u.fresnel()) {
             SmoothOutcome::Reflected { dir, tir } => {
                 self.stats.reflections += 1;
                 if tir {
