@@ -497,8 +497,8 @@ pub fn connect(
         }
         Some(_) => {}
     }
-    if on_glass && may_land_once() {
-        let mirrored = s - ng * (2.0 * s.dot(ng));
+    let mirrored = s - ng * (2.0 * s.dot(ng));
+    if on_glass && may_land_once() && !scene.cannot_leave(vertex, &mirrored) {
         if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored, None) {
             if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
                 out[1] = Some(c);
@@ -555,6 +555,61 @@ mod tests {
             faces > 100 && edges > 100,
             "{faces} faces, {edges} edge triangles"
         );
+    }
+
+    /// Whatever [`TraceScene::cannot_leave`] rules out, the chain's own trace ends inside the
+    /// pane: from every glass triangle's centroid of edge_study_bare's pane, 200 directions
+    /// into the glass (a spherical Fibonacci set), each traced. The bent car window is no
+    /// flat pane.
+    #[test]
+    fn chains_a_flat_pane_traps_are_those_whose_trace_ends_inside_it() {
+        let (scene, head, pose) = edge_study();
+        let aperture = Aperture::new(&head.camera, &pose.sensor);
+        let (mut trapped, mut tested, mut left) = (0, 0, 0);
+        for i in 0..scene.accel.triangle_count() as u32 {
+            let t = *scene.accel.triangle(i);
+            if scene.glass(t.material).is_none() {
+                continue;
+            }
+            assert!(scene.flat_panes[t.object as usize].is_some());
+            let [a, b, c] = t.vertices;
+            let point = Point3::from((a.coords + b.coords + c.coords) / 3.0);
+            let ng = (b - a).cross(&(c - a)).normalize();
+            let vertex = VertexOnSurface {
+                point,
+                ng,
+                triangle: i,
+            };
+            for k in 0..200 {
+                // Spherical Fibonacci directions (golden-angle spiral).
+                let z = 1.0 - (2 * k + 1) as f64 / 200.0;
+                let phi = k as f64 * 2.399_963_229_728_653;
+                let r = (1.0 - z * z).sqrt();
+                let w = Vector3::new(r * phi.cos(), r * phi.sin(), z);
+                if w.dot(&ng) >= 0.0 {
+                    continue;
+                }
+                tested += 1;
+                let traced = follow_chain(&scene, &aperture, point, i, w);
+                if scene.cannot_leave(&vertex, &w) {
+                    trapped += 1;
+                    assert!(traced.is_none(), "triangle {i}, direction {w}: {traced:?}");
+                } else {
+                    left += usize::from(traced.is_some());
+                }
+            }
+        }
+        assert!(
+            trapped > tested / 4 && left > 0,
+            "{trapped} ruled out, {left} left the pane, of {tested}"
+        );
+        let (car, _, _) = car_window();
+        for i in 0..car.accel.triangle_count() as u32 {
+            let t = car.accel.triangle(i);
+            if car.glass(t.material).is_some() {
+                assert_eq!(car.flat_panes[t.object as usize], None);
+            }
+        }
     }
 
     /// The car window over its table.
