@@ -1,6 +1,7 @@
 //! Face tessellation. Top and bottom faces are the same planar polygon (the outline inset by the
-//! edge finish), cut by a square grid of cell size `tessellation_m` so that no triangle spans
-//! more than one cell: on a bent panel that bounds the chord error by L²/(8R).
+//! edge finish), cut by a square grid (cell size `tessellation_m`, on a flat panel at least
+//! `FLAT_FACE_GRID_M`) so that no triangle spans more than one cell: on a bent panel that
+//! bounds the chord error by L²/(8R).
 //!
 //! Method: every crossing of the rim with a grid line is inserted into the rim first (vertical
 //! lines, then horizontal), so each rim segment lies in one closed cell. The grid is placed in

@@ -10,7 +10,8 @@
 //! which keeps lengths on the bottom face (an isometric bend) and makes the top face convex.
 //!
 //! Build steps, one submodule each: `contour` samples the outline (arcs at most 10° and
-//! `tessellation_m` per segment, straight edges resampled) with outward normals and miters,
+//! `tessellation_m` per segment, straight edges resampled to `tessellation_m`, on a flat
+//! panel to at least `FLAT_FACE_GRID_M`) with outward normals and miters,
 //! after `polygon` has checked a user polygon; `edge` gives the edge cross-section (from
 //! `profile`'s kinds by `seamed`, `fillet`, `pencil` and `custom`), whose top and bottom face
 //! boundaries may sit at different insets: both faces are the one polygon at the larger inset
