@@ -76,20 +76,11 @@ impl Stokes {
     }
 
     /// [`Stokes::rotate_frame`] into the (s, p) basis of a surface with unit normal `n`
-    /// (either orientation) met along `dir`: the frame becomes [`s_axis`]`(dir, n)`. Away from normal
-    /// incidence that axis is unit and ⊥ `dir` to rounding by construction, so it is not
-    /// projected again (issue 11: the projection's two square roots were a third of the frame
-    /// rotations' time); within 10⁻⁶ rad of it, where d × n loses its relative precision, it
-    /// is.
+    /// (either orientation) met along `dir`: the frame becomes [`s_axis`]`(dir, n)`, which is
+    /// unit and ⊥ `dir` to rounding, so it is not projected again (issue 11: the projection's
+    /// two square roots were a third of the frame rotations' time).
     pub fn rotate_to_s_axis(&mut self, dir: &Vector3<f64>, n: &Vector3<f64>) {
-        debug_assert!((n.norm() - 1.0).abs() < 1e-9, "n must be a unit normal");
-        let s = dir.cross(n);
-        let len = s.norm();
-        if len > 1e-6 {
-            self.rotate_to_unit_frame(dir, &(s / len));
-        } else {
-            self.rotate_frame(dir, &s_axis(dir, n));
-        }
+        self.rotate_to_unit_frame(dir, &s_axis(dir, n));
     }
 
     /// The rotation to `new_frame`, a unit vector ⊥ `dir`.
@@ -140,18 +131,25 @@ fn perpendicular_unit(dir: &Vector3<f64>, axis: &Vector3<f64>) -> Vector3<f64> {
     p / len
 }
 
-/// The s axis of the plane of incidence for a beam travelling along `dir` onto a surface with
-/// normal `n` (either orientation): the unit vector d × n. The incident, reflected and
-/// transmitted beams share it. At normal incidence, where the plane of incidence is undefined,
-/// any unit axis ⊥ `dir` is returned (the interface then acts the same in every frame).
+/// The s axis of the plane of incidence for a beam travelling along the unit vector `dir` onto
+/// a surface with unit normal `n` (either orientation): the unit vector d × n, ⊥ `dir` to
+/// rounding. The incident, reflected and transmitted beams share it. Within 10⁻⁶ rad of normal
+/// incidence, where d × n loses its relative precision, it is projected onto the plane ⊥ `dir`
+/// again; at normal incidence, where the plane of incidence is undefined, any unit axis ⊥ `dir`
+/// is returned (the interface then acts the same in every frame).
 pub fn s_axis(dir: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
+    debug_assert!((n.norm() - 1.0).abs() < 1e-9, "n must be a unit normal");
     let s = dir.cross(n);
     let len = s.norm();
-    if len > 1e-12 {
+    if len > 1e-6 {
+        return s / len;
+    }
+    let axis = if len > 1e-12 {
         s / len
     } else {
         orthonormal_basis(dir).0
-    }
+    };
+    perpendicular_unit(dir, &axis)
 }
 
 /// Mueller matrix that re-expresses a Stokes vector in a frame rotated by `theta` (rad) about

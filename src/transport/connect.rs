@@ -497,11 +497,13 @@ pub fn connect(
         }
         Some(_) => {}
     }
-    let mirrored = s - ng * (2.0 * s.dot(ng));
-    if on_glass && may_land_once() && !scene.cannot_leave(vertex, &mirrored) {
-        if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored, None) {
-            if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
-                out[1] = Some(c);
+    if on_glass && may_land_once() {
+        let mirrored = s - ng * (2.0 * s.dot(ng));
+        if !scene.cannot_leave(vertex, &mirrored) {
+            if let Some(c) = solve_connection(scene, aperture, vertex, lens_point, mirrored, None) {
+                if out[0].is_none_or(|o| (o.dir - c.dir).norm() > 1e-9) {
+                    out[1] = Some(c);
+                }
             }
         }
     }
