@@ -21,8 +21,9 @@
 //!   flux there: a glint.
 //! - Diffuse vertices continue with cosine sampling and Russian roulette on the albedo.
 //!
-//! Bias: the path-length cap `max_depth` and the cut of light trapped in a pane by total
-//! internal reflection once it is 10 mm off the view (both reported as `truncated_power_w`),
+//! Bias: the path-length cap `max_depth`, light totally reflected inside a flat pane ended
+//! there and light trapped in curved glass cut 10 mm off the view (all reported as
+//! `truncated_power_w`),
 //! and the connection chains' limits stated in `connect` (only transmitted chains from two
 //! seeds).
 //!

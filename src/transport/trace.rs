@@ -82,14 +82,15 @@ pub struct TraceStats {
     pub off_sensor: u64,
     /// Photons that entered the aperture along a purely specular chain (glints).
     pub glints: u64,
-    /// Paths cut while still carrying power: at `max_depth`, or trapped light far from the view
-    /// (`TRAPPED_LIGHT_CUT_MARGIN_M`).
+    /// Paths cut while still carrying power: at `max_depth`, trapped light far from the view
+    /// (`TRAPPED_LIGHT_CUT_MARGIN_M`), or totally reflected inside a flat pane
+    /// (`ends_at_total_reflection`).
     pub truncated: u64,
     /// Photons ended by the Russian roulette far from the camera's view.
     pub rouletted: u64,
     /// Total flux splatted on the sensor (W).
     pub flux_on_sensor_w: f64,
-    /// Power of the paths cut (W): an upper bound on the bias of both cuts.
+    /// Power of the paths cut (W): an upper bound on the bias of the cuts.
     pub truncated_power_w: f64,
     /// Power absorbed in glass (W).
     pub absorbed_w: f64,
@@ -97,7 +98,7 @@ pub struct TraceStats {
 
 impl TraceStats {
     /// A path cut while it still carried `power_w` (W): at `max_depth` or by the trapped-light
-    /// cut, the two biases `truncated_power_w` bounds.
+    /// cuts, the biases `truncated_power_w` bounds.
     fn count_cut(&mut self, power_w: f64) {
         self.truncated += 1;
         self.truncated_power_w += power_w;
@@ -137,8 +138,9 @@ const ROULETTE_MARGIN_M: f64 = 0.05;
 /// off the view (benches/README.md, 2026-12-04 and 2026-12-05).
 const REFLECTED_INSIDE_ROULETTE_MARGIN_M: f64 = 0.01;
 
-/// Light trapped in a pane by total internal reflection that survived the roulette ends where
-/// it first meets a surface this far from the view (`Aperture::far_from_view`; the margin of
+/// Light trapped by total internal reflection in curved glass (a flat pane ends it at once:
+/// `ends_at_total_reflection`) that survived the roulette ends where it first meets a surface
+/// this far from the view (`Aperture::far_from_view`; the margin of
 /// partial internal reflections' roulette too), its power counted in
 /// `TraceStats::truncated_power_w`. The bias, measured on edge_study_bare at 45° and
 /// car_side_window (2²⁰ photons, 4 poses each, same seed with and without the cut): 1.8·10⁻⁴–
@@ -147,7 +149,8 @@ const REFLECTED_INSIDE_ROULETTE_MARGIN_M: f64 = 0.01;
 /// spikes), profile points moved by at most 4.2 µm in at most 3 columns of 640 and one point of
 /// 2,560 changed validity; the convergence test's verdicts are unchanged and the default
 /// study lost spurious highest-point BIPs (benches/README.md, 2026-12-06: trapped light cut
-/// far from the view). At 50 mm the cut saved half as many vertices.
+/// far from the view; measured before flat panes ended such light at once). At 50 mm the cut
+/// saved half as many vertices.
 const TRAPPED_LIGHT_CUT_MARGIN_M: f64 = 0.01;
 
 /// The survival probability of that roulette: a survivor carries 8× its flux, so a rare one
@@ -432,8 +435,9 @@ struct Photon {
     crossed_glass: bool,
     /// The photon has been reflected inside glass.
     internal_reflection: bool,
-    /// The photon has been totally internally reflected: it is trapped in a pane, and plays
-    /// the roulette at its next surface wherever that is.
+    /// The photon has been totally internally reflected in curved glass (in a flat pane it
+    /// ends there: `ends_at_total_reflection`): it plays the roulette at its next surface
+    /// wherever that is.
     trapped: bool,
     /// The photon has been reflected by a glass surface (a face's Fresnel reflection or the
     /// edge's back-scatter), from outside or inside.
@@ -558,7 +562,8 @@ impl Tracer<'_> {
                 self.stats.laser_hits += 1;
             }
             // Russian roulette, once per photon: at its first surface after a total internal
-            // reflection, or else where it first meets a surface far from the camera's view
+            // reflection in curved glass (in a flat pane such light has ended: see
+            // `ends_at_total_reflection`), or else where it first meets a surface far from the camera's view
             // (the table beyond the view; light a pane reflected partially from inside, 10 mm
             // off). It continues with probability ROULETTE_SURVIVAL and its flux divided by it,
             // so every estimate keeps its mean (Arvo & Kirk, "Particle transport and image
@@ -758,6 +763,10 @@ impl Tracer<'_> {
                 self.stats.reflections += 1;
                 if tir {
                     self.stats.tir += 1;
+                    if ends_at_total_reflection(self.scene, hit) {
+                        self.stats.count_cut(photon.flux);
+                        return false;
+                    }
                     photon.trapped = true;
                 }
                 if !entering {
@@ -857,6 +866,19 @@ impl Tracer<'_> {
             _ => self.stats.off_sensor += 1,
         }
     }
+}
+
+/// Whether light totally reflected at `hit` ends there: inside a flat pane
+/// (`TraceScene::flat_panes`: faces parallel to one plane, a rough edge, no other glass within
+/// its bounding box), where the parallel faces keep it trapped and it leaves only through a
+/// face imperfection or the rough edge, as the pane's faint glow. Its power is counted in
+/// `TraceStats::truncated_power_w`: a stated bias, like `max_depth`. Followed (1/8 of it, ×8,
+/// by the roulette, until 10 mm off the view: `TRAPPED_LIGHT_CUT_MARGIN_M`, which still holds
+/// in curved glass), it made 15 % of the vertices on edge_study_bare at 45° for 1.3·10⁻⁴ of
+/// the light on the sensor, mostly as the survivors' spikes. What ending it changes, measured
+/// on the same seeds: benches/README.md (2026-12-07: trapped light in flat panes ends).
+fn ends_at_total_reflection(scene: &TraceScene, hit: &Hit) -> bool {
+    scene.flat_panes[hit.object as usize].is_some()
 }
 
 /// Geometric and shading normals turned towards the side the light arrives from.

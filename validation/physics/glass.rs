@@ -514,3 +514,35 @@ fn light_a_pane_mirrors_onto_a_board_has_its_own_class() {
         .filter(|p| p.valid)
         .all(|p| p.label.is_some()));
 }
+
+#[test]
+fn light_totally_reflected_in_a_flat_pane_ends_there_and_in_curved_glass_goes_on() {
+    // The flat edge-study pane: every total internal reflection ends its photon, so each is one
+    // cut path (none reaches max_depth or the 10 mm cut of curved glass). The bent car window:
+    // trapped light is followed (the roulette's survivors reflect many times before their cut).
+    use glassscan::scan::adaptive::StopRules;
+    use glassscan::scan::simulate::simulate_pose;
+    use glassscan::transport::TraceSettings;
+
+    use crate::common::{shipped_scan, ShippedScan};
+
+    let settings = TraceSettings {
+        photons: 1 << 15,
+        adaptive: false,
+        max_depth: 64,
+        seed: 3,
+    };
+    let stats = |scene: &str| {
+        let ShippedScan { head, trace, poses } = shipped_scan(scene, 45.0, 1);
+        simulate_pose(&trace, &head, &poses[0], &settings, StopRules::EDGE_LINE).stats
+    };
+    let flat = stats("edge_study_bare.toml");
+    assert!(flat.tir > 1000, "{flat:?}");
+    assert_eq!(flat.truncated, flat.tir, "{flat:?}");
+    assert!(flat.truncated_power_w > 0.0);
+    let bent = stats("car_side_window.toml");
+    assert!(
+        bent.tir > 2 * bent.truncated && bent.truncated > 0,
+        "{bent:?}"
+    );
+}
