@@ -30,18 +30,19 @@ fn assert_same(a: &PoseResult, b: &PoseResult, what: &str) {
 #[test]
 fn an_adaptive_pose_is_its_photons_traced_at_once() {
     // edge_study_bare at 45°, the convergence test's 16 poses (examples/convergence.rs), seed
-    // 11, waiting for the edge-line rule as `scan` does: pose 1 stops at the first check
-    // (2^17), pose 10 takes another set (to the default 2^18; with the photons focused on p_e
-    // ±2 mm, measured on 2026-12-06: 15 of the 16 poses stop at 2^17).
+    // 12, waiting for the edge-line rule as `scan` does: pose 1 stops at the first check
+    // (2^17), pose 4 takes another set (to the default 2^18; measured on 2026-12-07, since light
+    // totally reflected in a flat pane ends there: 12 of the 16 poses stop at 2^17, and at
+    // seed 11 all 16).
     let ShippedScan { head, trace, poses } = shipped_scan("edge_study_bare.toml", 45.0, 16);
     let settings = |photons, adaptive| TraceSettings {
         photons,
         adaptive,
         max_depth: 64,
-        seed: 11,
+        seed: 12,
     };
     let mut counts = Vec::new();
-    for pose in [&poses[1], &poses[10]] {
+    for pose in [&poses[1], &poses[4]] {
         let adaptive = settings(DEFAULT_PHOTONS, true);
         let one = on_threads(1, || {
             simulate_pose(&trace, &head, pose, &adaptive, StopRules::EDGE_LINE)
