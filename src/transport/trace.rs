@@ -562,10 +562,10 @@ impl Tracer<'_> {
                 self.stats.laser_hits += 1;
             }
             // Russian roulette, once per photon: at its first surface after a total internal
-            // reflection in curved glass (in a flat pane such light has ended: see
-            // `ends_at_total_reflection`), or else where it first meets a surface far from the camera's view
-            // (the table beyond the view; light a pane reflected partially from inside, 10 mm
-            // off). It continues with probability ROULETTE_SURVIVAL and its flux divided by it,
+            // reflection in curved glass (in a flat pane such light has ended there:
+            // `ends_at_total_reflection`), or else where it first meets a surface far from the
+            // camera's view (the table beyond the view; light a pane reflected partially from
+            // inside, 10 mm off). It continues with probability ROULETTE_SURVIVAL and its flux divided by it,
             // so every estimate keeps its mean (Arvo & Kirk, "Particle transport and image
             // synthesis", SIGGRAPH 1990). Its own keyed stream leaves every other random
             // number as it was. Trapped light shows the camera only the faint glow of face

@@ -1,13 +1,16 @@
 //! Light transport through glass against closed-form optics.
 
 use glassscan::optics::slab::slab_rta;
+use glassscan::scan::adaptive::StopRules;
+use glassscan::scan::simulate::simulate_pose;
 use glassscan::sensor::path_class::PathClass;
 use glassscan::sensor::SensorHead;
+use glassscan::transport::TraceSettings;
 use nalgebra::Vector3;
 
 use crate::common::{
-    add_glass_box, clear_glass, facing_plate, line_band, simulate, simulate_with_threads,
-    valid_points, world_of_boxes,
+    add_glass_box, clear_glass, facing_plate, line_band, shipped_scan, simulate,
+    simulate_with_threads, valid_points, world_of_boxes, ShippedScan,
 };
 
 /// Mean z (mm) of the valid profile points with |x| < `half_width` mm.
@@ -520,12 +523,6 @@ fn light_totally_reflected_in_a_flat_pane_ends_there_and_in_curved_glass_goes_on
     // The flat edge-study pane: every total internal reflection ends its photon, so each is one
     // cut path (none reaches max_depth or the 10 mm cut of curved glass). The bent car window:
     // trapped light is followed (the roulette's survivors reflect many times before their cut).
-    use glassscan::scan::adaptive::StopRules;
-    use glassscan::scan::simulate::simulate_pose;
-    use glassscan::transport::TraceSettings;
-
-    use crate::common::{shipped_scan, ShippedScan};
-
     let settings = TraceSettings {
         photons: 1 << 15,
         adaptive: false,
