@@ -204,7 +204,12 @@ pub fn shipped_scan(name: &str, scan_angle_deg: f64, poses: usize) -> ShippedSca
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
-    let world = glassscan::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    scene_scan(&path, scan_angle_deg, poses)
+}
+
+/// Loads the scene file `path` and plans its scan ([`ShippedScan`]).
+pub fn scene_scan(path: &std::path::Path, scan_angle_deg: f64, poses: usize) -> ShippedScan {
+    let world = glassscan::scene::load(path).unwrap_or_else(|e| panic!("{e}"));
     let mut scan = world.scan;
     scan.scan_angle_rad = scan_angle_deg.to_radians();
     scan.poses = poses;

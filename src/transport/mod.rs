@@ -21,17 +21,17 @@
 //!   flux there: a glint.
 //! - Diffuse vertices continue with cosine sampling and Russian roulette on the albedo.
 //!
-//! Bias: the path-length cap `max_depth`, light totally reflected inside a flat pane ended
-//! there and light trapped in curved glass cut 10 mm off the view (all reported as
-//! `truncated_power_w`),
-//! and the connection chains' limits stated in `connect` (only transmitted chains from two
-//! seeds).
+//! Bias: the path-length cap `max_depth`, light totally reflected inside a flat pane or a pane
+//! bent on a cylinder ended there, and light trapped in other curved glass cut 10 mm off the
+//! view (all reported as `truncated_power_w`), and the connection chains' limits stated in
+//! `connect` (only transmitted chains from two seeds).
 //!
 //! Determinism: every random number is a function of (seed, pose, photon, dimension); photons
 //! are processed in fixed-size chunks whose splats are summed in chunk order, so the images
 //! are bit-identical for any thread count.
 
 pub mod connect;
+pub mod cylinder_pane;
 pub mod deviation;
 pub mod fan_focus;
 pub mod film;

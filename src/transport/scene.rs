@@ -4,6 +4,7 @@
 use nalgebra::{Point3, Vector3};
 
 use super::connect::{VertexOnSurface, MAX_INTERFACES};
+use super::cylinder_pane::{coaxial_radius_ratio, FaceVertex};
 use super::deviation::DeviationBound;
 use crate::geometry::accel::{SceneAccel, SceneTriangle};
 use crate::geometry::mesh::SurfacePart;
@@ -66,7 +67,19 @@ pub struct TraceScene {
     /// overlaps, its faces' normal and index, which tell at once which chains launched into it
     /// cannot leave it ([`TraceScene::cannot_leave`]).
     pub flat_panes: Vec<Option<FlatPane>>,
+    /// Per world object index: whether light totally reflected at its faces stays inside it
+    /// until the rough edge or a face imperfection lets it out (`trace::ends_at_total_reflection`):
+    /// a flat pane, or a pane bent on a cylinder no thicker than [`MIN_BENT_RADIUS_RATIO`]
+    /// allows, with the flat pane's other conditions (`cylinder_pane` says why).
+    pub traps_light: Vec<bool>,
 }
+
+/// Least r_min/r_max of a bent pane's faces about their axis for light totally reflected in it
+/// to count as trapped: its faces then let out only light whose first total internal
+/// reflection lies within 1/η ≤ sin θ < 1/(0.99·η), under a degree above the critical angle
+/// (`cylinder_pane`); panes of 4 mm bent on radii of 400 mm or more. Car side windows are bent
+/// on ~1–2 m (the shipped car window: 0.9973).
+pub const MIN_BENT_RADIUS_RATIO: f64 = 0.99;
 
 /// A glass object whose face triangles (every one not tagged `Edge`) are parallel to one
 /// plane, with a rough edge finish, and whose bounding box no other glass object's meets.
@@ -84,14 +97,20 @@ pub struct FlatPane {
 /// test of total internal reflection could not decide otherwise.
 const TRAPPED_MARGIN: f64 = 1e-9;
 
-/// The flat panes of the scene (see [`FlatPane`]), per object index.
-fn flat_panes(
+/// The panes of the scene, per object index: the flat ones (see [`FlatPane`]), and whether
+/// each traps light totally reflected in it (flat, or bent on a cylinder: see
+/// [`TraceScene::traps_light`]).
+fn panes(
     accel: &SceneAccel,
     surfaces: &[SurfaceModel],
     objects: usize,
-) -> Vec<Option<FlatPane>> {
+) -> (Vec<Option<FlatPane>>, Vec<bool>) {
     let mut normal: Vec<Option<Vector3<f64>>> = vec![None; objects];
     let mut flat = vec![true; objects];
+    let mut rough_edge = vec![true; objects];
+    // Face vertices with their shading normals; emptied for an object with a face that has
+    // none (facets are not a cylinder).
+    let mut face_vertices: Vec<Option<Vec<FaceVertex>>> = vec![Some(Vec::new()); objects];
     let mut glass = vec![None; objects];
     let mut bounds = vec![
         (
@@ -107,13 +126,17 @@ fn flat_panes(
             bounds[k] = (bounds[k].0.inf(v), bounds[k].1.sup(v));
         }
         let SurfaceModel::Glass(g) = surfaces[t.material as usize] else {
-            flat[k] = false;
+            rough_edge[k] = false;
             continue;
         };
         glass[k] = Some(g);
         if t.part == SurfacePart::Edge {
-            flat[k] &= g.edge_alpha > 0.0;
+            rough_edge[k] &= g.edge_alpha > 0.0;
             continue;
+        }
+        match (&mut face_vertices[k], t.normals) {
+            (Some(v), Some(ns)) => v.extend(t.vertices.into_iter().zip(ns)),
+            (v, _) => *v = None,
         }
         let [a, b, c] = t.vertices;
         let Some(n) = (b - a).cross(&(c - a)).try_normalize(0.0) else {
@@ -129,18 +152,32 @@ fn flat_panes(
     let overlaps = |a: usize, b: usize| {
         (0..3).all(|j| bounds[a].0[j] <= bounds[b].1[j] && bounds[b].0[j] <= bounds[a].1[j])
     };
-    (0..objects)
+    let pane = |k: usize| {
+        let alone = (0..objects).all(|o| o == k || glass[o].is_none() || !overlaps(k, o));
+        glass[k].filter(|_| rough_edge[k] && alone)
+    };
+    let flat_panes: Vec<Option<FlatPane>> = (0..objects)
         .map(|k| {
-            let (Some(g), Some(n), true) = (glass[k], normal[k], flat[k]) else {
+            let (Some(g), Some(n), true) = (pane(k), normal[k], flat[k]) else {
                 return None;
             };
-            let alone = (0..objects).all(|o| o == k || glass[o].is_none() || !overlaps(k, o));
-            alone.then_some(FlatPane {
+            Some(FlatPane {
                 normal: n,
                 eta: g.eta,
             })
         })
-        .collect()
+        .collect();
+    let traps_light = (0..objects)
+        .map(|k| {
+            flat_panes[k].is_some()
+                || pane(k).is_some()
+                    && face_vertices[k]
+                        .as_deref()
+                        .and_then(coaxial_radius_ratio)
+                        .is_some_and(|ratio| ratio >= MIN_BENT_RADIUS_RATIO)
+        })
+        .collect();
+    (flat_panes, traps_light)
 }
 
 /// The far face of a flat glass slab, as seen from one of its face triangles.
@@ -238,7 +275,7 @@ impl TraceScene {
         let accel = SceneAccel::build(triangles);
         let deviation = DeviationBound::of_scene(&accel, &surfaces, MAX_INTERFACES);
         let slab_faces = slab_faces(&accel, &surfaces);
-        let flat_panes = flat_panes(&accel, &surfaces, world.objects.len());
+        let (flat_panes, traps_light) = panes(&accel, &surfaces, world.objects.len());
         Ok(TraceScene {
             accel,
             surfaces,
@@ -246,6 +283,7 @@ impl TraceScene {
             deviation,
             slab_faces,
             flat_panes,
+            traps_light,
         })
     }
 

@@ -83,7 +83,7 @@ pub struct TraceStats {
     /// Photons that entered the aperture along a purely specular chain (glints).
     pub glints: u64,
     /// Paths cut while still carrying power: at `max_depth`, trapped light far from the view
-    /// (`TRAPPED_LIGHT_CUT_MARGIN_M`), or totally reflected inside a flat pane
+    /// (`TRAPPED_LIGHT_CUT_MARGIN_M`), or totally reflected inside a pane that traps it
     /// (`ends_at_total_reflection`).
     pub truncated: u64,
     /// Photons ended by the Russian roulette far from the camera's view.
@@ -138,8 +138,8 @@ const ROULETTE_MARGIN_M: f64 = 0.05;
 /// off the view (benches/README.md, 2026-12-04 and 2026-12-05).
 const REFLECTED_INSIDE_ROULETTE_MARGIN_M: f64 = 0.01;
 
-/// Light trapped by total internal reflection in curved glass (a flat pane ends it at once:
-/// `ends_at_total_reflection`) that survived the roulette ends where it first meets a surface
+/// Light trapped by total internal reflection in curved glass (a flat pane or one bent on a
+/// cylinder ends it at once: `ends_at_total_reflection`) that survived the roulette ends where it first meets a surface
 /// this far from the view (`Aperture::far_from_view`; the margin of partial internal
 /// reflections' roulette too), its power counted in `TraceStats::truncated_power_w`. The bias,
 /// measured on edge_study_bare at 45° and car_side_window (2²⁰ photons, 4 poses each, same seed
@@ -434,9 +434,9 @@ struct Photon {
     crossed_glass: bool,
     /// The photon has been reflected inside glass.
     internal_reflection: bool,
-    /// The photon has been totally internally reflected in curved glass (in a flat pane it
-    /// ends there: `ends_at_total_reflection`): it plays the roulette at its next surface
-    /// wherever that is.
+    /// The photon has been totally internally reflected in curved glass (in a flat pane or one
+    /// bent on a cylinder it ends there: `ends_at_total_reflection`): it plays the roulette at
+    /// its next surface wherever that is.
     trapped: bool,
     /// The photon has been reflected by a glass surface (a face's Fresnel reflection or the
     /// edge's back-scatter), from outside or inside.
@@ -561,10 +561,10 @@ impl Tracer<'_> {
                 self.stats.laser_hits += 1;
             }
             // Russian roulette, once per photon: at its first surface after a total internal
-            // reflection in curved glass (in a flat pane such light has ended there:
-            // `ends_at_total_reflection`), or else where it first meets a surface far from the
-            // camera's view (the table beyond the view; light a pane reflected partially from
-            // inside, 10 mm off). It continues with probability ROULETTE_SURVIVAL and its flux
+            // reflection in curved glass (in a flat or cylindrical pane such light has ended
+            // there: `ends_at_total_reflection`), or else where it first meets a surface far
+            // from the camera's view (the table beyond the view; light a pane reflected
+            // partially from inside, 10 mm off). It continues with probability ROULETTE_SURVIVAL and its flux
             // divided by it, so every estimate keeps its mean (Arvo & Kirk, "Particle transport
             // and image synthesis", SIGGRAPH 1990). Its own keyed stream leaves every other
             // random number as it was. Trapped light shows the camera only the faint glow of
@@ -868,17 +868,21 @@ impl Tracer<'_> {
     }
 }
 
-/// Whether light totally reflected at `hit` ends there: inside a flat pane
-/// (`TraceScene::flat_panes`: faces parallel to one plane, a rough edge, no other glass within
-/// its bounding box), where the parallel faces keep it trapped and it leaves only through a
-/// face imperfection or the rough edge, as the pane's faint glow. Its power is counted in
+/// Whether light totally reflected at `hit` ends there: inside a pane that traps it
+/// (`TraceScene::traps_light`: faces parallel to one plane, or on cylinders about one axis
+/// within 1 % in radius; a rough edge; no other glass within its bounding box), where the faces
+/// keep it inside and it leaves only through a face imperfection or the rough edge, as the
+/// pane's faint glow, or, in a bent pane, through a face if its first reflection lay within
+/// the window of `cylinder_pane` just above the critical angle. Its power is counted in
 /// `TraceStats::truncated_power_w`: a stated bias, like `max_depth`. Followed (1/8 of it, ×8,
 /// by the roulette, until 10 mm off the view: `TRAPPED_LIGHT_CUT_MARGIN_M`, which still holds
-/// in curved glass), it made 15 % of the vertices on edge_study_bare at 45° for 1.3·10⁻⁴ of
-/// the light on the sensor, mostly as the survivors' spikes. What ending it changes, measured
-/// on the same seeds: benches/README.md (2026-12-07: trapped light in flat panes ends).
+/// in other curved glass), it made 15 % of the vertices on edge_study_bare at 45° for
+/// 1.3·10⁻⁴ of the light on the sensor, and 16 % on car_side_window at 45° for 2.5·10⁻⁴,
+/// mostly as the survivors' spikes. What ending it changes, measured on the same seeds:
+/// benches/README.md (2026-12-07, trapped light in flat panes ends; 2026-12-07, evening, and
+/// in panes bent on a cylinder).
 fn ends_at_total_reflection(scene: &TraceScene, hit: &Hit) -> bool {
-    scene.flat_panes[hit.object as usize].is_some()
+    scene.traps_light[hit.object as usize]
 }
 
 /// Geometric and shading normals turned towards the side the light arrives from.
