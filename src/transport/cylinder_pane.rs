@@ -41,10 +41,17 @@ pub type FaceVertex = (Point3<f64>, Vector3<f64>);
 /// The ratio r_min/r_max of the faces' distances from their common axis, if every face vertex
 /// (point, unit shading normal, in the base frame) lies on a cylinder about one axis with its
 /// normal radial; `None` if they do not (or all normals are parallel: a flat pane).
-pub fn coaxial_radius_ratio(vertices: &[FaceVertex]) -> Option<f64> {
-    let (p0, n0) = *vertices.first()?;
+/// Two passes over `vertices` (an iterator, so that a large mesh's vertices need not be
+/// copied).
+pub fn coaxial_radius_ratio<I>(vertices: I) -> Option<f64>
+where
+    I: IntoIterator<Item = FaceVertex>,
+    I::IntoIter: Clone,
+{
+    let vertices = vertices.into_iter();
+    let (p0, n0) = vertices.clone().next()?;
     // The axis direction: perpendicular to the first normal and to the one least parallel to it.
-    let (p1, n1) = *vertices.iter().max_by(|a, b| {
+    let (p1, n1) = vertices.clone().max_by(|a, b| {
         let (sa, sb) = (a.1.cross(&n0).norm(), b.1.cross(&n0).norm());
         sa.total_cmp(&sb)
     })?;
@@ -70,7 +77,7 @@ pub fn coaxial_radius_ratio(vertices: &[FaceVertex]) -> Option<f64> {
         let q = flat(p - centre);
         let r = q.norm();
         // The normal line through the vertex must pass through the axis: q ∥ n.
-        if r == 0.0 || q.cross(n).norm() > ON_CYLINDER_TOLERANCE * r {
+        if r == 0.0 || q.cross(&n).norm() > ON_CYLINDER_TOLERANCE * r {
             return None;
         }
         (r_min, r_max) = (r_min.min(r), r_max.max(r));
@@ -103,7 +110,7 @@ mod tests {
     fn a_pane_bent_on_a_cylinder_gives_its_radius_ratio_in_any_pose() {
         let axis = Vector3::new(0.2, 1.0, -0.1).normalize();
         let v = bent(Point3::new(0.3, -1.2, 0.7), axis, 1.5, 1.504);
-        let ratio = coaxial_radius_ratio(&v).unwrap();
+        let ratio = coaxial_radius_ratio(v).unwrap();
         assert!((ratio - 1.5 / 1.504).abs() < 1e-12, "{ratio}");
     }
 
@@ -115,21 +122,21 @@ mod tests {
             (Point3::new(1.0, 0.0, 0.0), Vector3::z()),
             (Point3::new(0.0, 1.0, 0.004), -Vector3::z()),
         ];
-        assert_eq!(coaxial_radius_ratio(&flat), None);
+        assert_eq!(coaxial_radius_ratio(flat), None);
         // One normal leaning 1e-4 towards the axis direction.
         let mut tilted = bent(Point3::origin(), axis, 1.5, 1.504);
         tilted[7].1 = (tilted[7].1 + axis * 1e-4).normalize();
-        assert_eq!(coaxial_radius_ratio(&tilted), None);
+        assert_eq!(coaxial_radius_ratio(tilted), None);
         // One vertex whose normal line misses the axis by 1e-3 of its radius (a face that is
         // not part of the cylinder).
         let mut off = bent(Point3::origin(), axis, 1.5, 1.504);
         let tangent = off[9].1.cross(&axis);
         off[9].0 += tangent * 1.5e-3;
-        assert_eq!(coaxial_radius_ratio(&off), None);
+        assert_eq!(coaxial_radius_ratio(off), None);
         // A box's faces: normals along three axes.
         let cube = [Vector3::x(), Vector3::y(), Vector3::z()]
             .map(|n| (Point3::from(n * 0.5), n))
             .to_vec();
-        assert_eq!(coaxial_radius_ratio(&cube), None);
+        assert_eq!(coaxial_radius_ratio(cube), None);
     }
 }

@@ -108,9 +108,9 @@ fn panes(
     let mut normal: Vec<Option<Vector3<f64>>> = vec![None; objects];
     let mut flat = vec![true; objects];
     let mut rough_edge = vec![true; objects];
-    // Face vertices with their shading normals; emptied for an object with a face that has
-    // none (facets are not a cylinder).
-    let mut face_vertices: Vec<Option<Vec<FaceVertex>>> = vec![Some(Vec::new()); objects];
+    // Face triangles with shading normals; `None` for an object with a face that has none
+    // (facets are not a cylinder).
+    let mut smooth_faces: Vec<Option<Vec<u32>>> = vec![Some(Vec::new()); objects];
     let mut glass = vec![None; objects];
     let mut bounds = vec![
         (
@@ -134,9 +134,9 @@ fn panes(
             rough_edge[k] &= g.edge_alpha > 0.0;
             continue;
         }
-        match (&mut face_vertices[k], t.normals) {
-            (Some(v), Some(ns)) => v.extend(t.vertices.into_iter().zip(ns)),
-            (v, _) => *v = None,
+        match (&mut smooth_faces[k], t.normals) {
+            (Some(faces), Some(_)) => faces.push(i),
+            (faces, _) => *faces = None,
         }
         let [a, b, c] = t.vertices;
         let Some(n) = (b - a).cross(&(c - a)).try_normalize(0.0) else {
@@ -171,13 +171,25 @@ fn panes(
         .map(|k| {
             flat_panes[k].is_some()
                 || pane(k).is_some()
-                    && face_vertices[k]
+                    && smooth_faces[k]
                         .as_deref()
-                        .and_then(coaxial_radius_ratio)
+                        .and_then(|faces| coaxial_radius_ratio(face_vertices(accel, faces)))
                         .is_some_and(|ratio| ratio >= MIN_BENT_RADIUS_RATIO)
         })
         .collect();
     (flat_panes, traps_light)
+}
+
+/// The vertices of the smooth-shaded triangles `faces`, each with its shading normal.
+fn face_vertices<'a>(
+    accel: &'a SceneAccel,
+    faces: &'a [u32],
+) -> impl Iterator<Item = FaceVertex> + Clone + 'a {
+    faces.iter().flat_map(move |&i| {
+        let t = accel.triangle(i);
+        let normals = t.normals.expect("a smooth face triangle");
+        t.vertices.into_iter().zip(normals)
+    })
 }
 
 /// The far face of a flat glass slab, as seen from one of its face triangles.

@@ -139,17 +139,18 @@ const ROULETTE_MARGIN_M: f64 = 0.05;
 const REFLECTED_INSIDE_ROULETTE_MARGIN_M: f64 = 0.01;
 
 /// Light trapped by total internal reflection in curved glass (a flat pane or one bent on a
-/// cylinder ends it at once: `ends_at_total_reflection`) that survived the roulette ends where it first meets a surface
-/// this far from the view (`Aperture::far_from_view`; the margin of partial internal
-/// reflections' roulette too), its power counted in `TraceStats::truncated_power_w`. The bias,
-/// measured on edge_study_bare at 45° and car_side_window (2²⁰ photons, 4 poses each, same seed
-/// with and without the cut): 1.8·10⁻⁴–1.4·10⁻³ and 1·10⁻⁵–2·10⁻⁴ of the light on the sensor,
-/// 87–348 pixels of 532,480 changed, single pixels by up to full scale (the removed light
-/// arrives as the 8× survivors' rare spikes), profile points moved by at most 4.2 µm in at most
-/// 3 columns of 640 and one point of 2,560 changed validity; the convergence test's verdicts
-/// are unchanged and the default study lost spurious highest-point BIPs (benches/README.md,
-/// 2026-12-06: trapped light cut far from the view; measured before flat panes ended such light
-/// at once). At 50 mm the cut saved half as many vertices.
+/// cylinder ends it at once: `ends_at_total_reflection`) that survived the roulette ends where
+/// it first meets a surface this far from the view (`Aperture::far_from_view`; the margin of
+/// partial internal reflections' roulette too), its power counted in
+/// `TraceStats::truncated_power_w`. The bias, measured on edge_study_bare at 45° and
+/// car_side_window (2²⁰ photons, 4 poses each, same seed with and without the cut):
+/// 1.8·10⁻⁴–1.4·10⁻³ and 1·10⁻⁵–2·10⁻⁴ of the light on the sensor, 87–348 pixels of 532,480
+/// changed, single pixels by up to full scale (the removed light arrives as the 8× survivors'
+/// rare spikes), profile points moved by at most 4.2 µm in at most 3 columns of 640 and one
+/// point of 2,560 changed validity; the convergence test's verdicts are unchanged and the
+/// default study lost spurious highest-point BIPs (benches/README.md, 2026-12-06: trapped light
+/// cut far from the view; measured before flat and cylindrical panes ended such light at
+/// once). At 50 mm the cut saved half as many vertices.
 const TRAPPED_LIGHT_CUT_MARGIN_M: f64 = 0.01;
 
 /// The survival probability of that roulette: a survivor carries 8× its flux, so a rare one
@@ -564,13 +565,13 @@ impl Tracer<'_> {
             // reflection in curved glass (in a flat or cylindrical pane such light has ended
             // there: `ends_at_total_reflection`), or else where it first meets a surface far
             // from the camera's view (the table beyond the view; light a pane reflected
-            // partially from inside, 10 mm off). It continues with probability ROULETTE_SURVIVAL and its flux
-            // divided by it, so every estimate keeps its mean (Arvo & Kirk, "Particle transport
-            // and image synthesis", SIGGRAPH 1990). Its own keyed stream leaves every other
-            // random number as it was. Trapped light shows the camera only the faint glow of
-            // face imperfections but made 42 % of the vertices, most of them in view; why
-            // partial reflections are not thinned in view: ARCHITECTURE.md, light transport,
-            // step 7.
+            // partially from inside, 10 mm off). It continues with probability
+            // ROULETTE_SURVIVAL and its flux divided by it, so every estimate keeps its mean
+            // (Arvo & Kirk, "Particle transport and image synthesis", SIGGRAPH 1990). Its own
+            // keyed stream leaves every other random number as it was. Trapped light shows the
+            // camera only the faint glow of face imperfections but made 42 % of the vertices,
+            // most of them in view; why partial reflections are not thinned in view:
+            // ARCHITECTURE.md, light transport, step 7.
             let margin = if photon.internal_reflection {
                 REFLECTED_INSIDE_ROULETTE_MARGIN_M
             } else {
