@@ -880,7 +880,7 @@ impl Tracer<'_> {
 /// in other curved glass), it made 15 % of the vertices on edge_study_bare at 45° for
 /// 1.3·10⁻⁴ of the light on the sensor, and 16 % on car_side_window at 45° for 2.5·10⁻⁴,
 /// mostly as the survivors' spikes. What ending it changes, measured on the same seeds:
-/// benches/README.md (2026-12-07, trapped light in flat panes ends; 2026-12-07, evening, and
+/// benches/README.md (2026-12-07, trapped light in flat panes ends; 2026-12-07, morning, and
 /// in panes bent on a cylinder).
 fn ends_at_total_reflection(scene: &TraceScene, hit: &Hit) -> bool {
     scene.traps_light[hit.object as usize]
