@@ -41,6 +41,7 @@ pub type FaceVertex = (Point3<f64>, Vector3<f64>);
 /// The ratio r_min/r_max of the faces' distances from their common axis, if every face vertex
 /// (point, unit shading normal, in the base frame) lies on a cylinder about one axis with its
 /// normal radial; `None` if they do not (or all normals are parallel: a flat pane).
+///
 /// Two passes over `vertices` (an iterator, so that a large mesh's vertices need not be
 /// copied).
 pub fn coaxial_radius_ratio<I>(vertices: I) -> Option<f64>

@@ -152,13 +152,17 @@ fn panes(
     let overlaps = |a: usize, b: usize| {
         (0..3).all(|j| bounds[a].0[j] <= bounds[b].1[j] && bounds[b].0[j] <= bounds[a].1[j])
     };
-    let pane = |k: usize| {
-        let alone = (0..objects).all(|o| o == k || glass[o].is_none() || !overlaps(k, o));
-        glass[k].filter(|_| rough_edge[k] && alone)
-    };
+    // Glass with a rough edge and no other glass within its bounding box: a pane, if its faces
+    // are flat or on cylinders.
+    let pane: Vec<Option<GlassSurface>> = (0..objects)
+        .map(|k| {
+            let alone = (0..objects).all(|o| o == k || glass[o].is_none() || !overlaps(k, o));
+            glass[k].filter(|_| rough_edge[k] && alone)
+        })
+        .collect();
     let flat_panes: Vec<Option<FlatPane>> = (0..objects)
         .map(|k| {
-            let (Some(g), Some(n), true) = (pane(k), normal[k], flat[k]) else {
+            let (Some(g), Some(n), true) = (pane[k], normal[k], flat[k]) else {
                 return None;
             };
             Some(FlatPane {
@@ -170,7 +174,7 @@ fn panes(
     let traps_light = (0..objects)
         .map(|k| {
             flat_panes[k].is_some()
-                || pane(k).is_some()
+                || pane[k].is_some()
                     && smooth_faces[k]
                         .as_deref()
                         .and_then(|faces| coaxial_radius_ratio(face_vertices(accel, faces)))
