@@ -38,8 +38,15 @@ pub struct PreparedWorld {
 impl PreparedWorld {
     /// Builds the BVH and the camera of `world`; errors are messages for the caller to place.
     pub fn new(world: World) -> Result<PreparedWorld, String> {
+        PreparedWorld::new_like(world, None)
+    }
+
+    /// [`PreparedWorld::new`] for a sample of the dataset whose scene as written is `base`:
+    /// the sensor unit's fixed pattern is `base`'s wherever randomisation left it as it was.
+    pub fn new_like(world: World, base: Option<&PreparedWorld>) -> Result<PreparedWorld, String> {
         let scene = TraceScene::new(&world).map_err(|e| e.to_string())?;
-        let head = SensorHead::new(&world.sensor).map_err(|e| format!("[sensor]: {e}"))?;
+        let head = SensorHead::new_like(&world.sensor, base.map(|b| &b.head))
+            .map_err(|e| format!("[sensor]: {e}"))?;
         Ok(PreparedWorld { world, scene, head })
     }
 }
@@ -108,7 +115,9 @@ pub fn make_sample<'a>(ctx: &SampleContext<'a>, index: u64) -> Result<Sample<'a>
         SampleWorld::Shared(ctx.base)
     } else {
         let world = ctx.template.world_with(&draw.values).map_err(fail)?;
-        SampleWorld::Own(Box::new(PreparedWorld::new(world).map_err(fail)?))
+        SampleWorld::Own(Box::new(
+            PreparedWorld::new_like(world, Some(ctx.base)).map_err(fail)?,
+        ))
     };
     let world = &prepared.world;
     let Some(target) = world.target.as_ref() else {

@@ -39,7 +39,7 @@ use super::bloom;
 use super::image::Image;
 use super::imager::{ImagerSpec, SensorKind};
 use crate::optics::warp::normal_quantile;
-use crate::sampler::{mix64, PoseSampler};
+use crate::sampler::{mix64, IndexUniforms, PoseSampler};
 
 /// What one exposure produced.
 #[derive(Clone, Debug, PartialEq)]
@@ -183,18 +183,34 @@ fn ln_poisson_pmf(k: f64, mean: f64) -> f64 {
     k * (delta.ln_1p() - delta) - delta - 0.5 * (std::f64::consts::TAU * x).ln() - series
 }
 
-/// Consecutive uniforms of pixel `key` from dimension `base` on, for one Poisson draw.
-fn draws(sampler: &PoseSampler, key: u64, base: u32) -> impl FnMut() -> f64 + '_ {
+/// Consecutive uniforms of one pixel from dimension `base` on, for one Poisson draw.
+fn draws(pixel: IndexUniforms, base: u32) -> impl FnMut() -> f64 {
     let mut dim = base;
     move || {
         debug_assert!(
             dim < base + POISSON_DIMS,
             "Poisson draw overran its dimensions"
         );
-        let u = sampler.uniform(key, dim);
+        let u = pixel.uniform(dim);
         dim += 1;
         u
     }
+}
+
+/// The digital number of a signal y (DN): rounded half away from zero, as `f64::round`, and
+/// clipped to [0, `max_dn`]. Bit for bit `y.round().clamp(0.0, max_dn as f64) as u16`, without
+/// `round`, which x86-64 without SSE4.1 calls in the maths library: below 0.5 (and NaN) the
+/// result is 0, at or above `max_dn` it is `max_dn`, and in between y's integer and fractional
+/// parts are exact (y < 2¹⁶).
+fn digitise(y: f64, max_dn: u16) -> u16 {
+    if y >= f64::from(max_dn) {
+        return max_dn;
+    }
+    if y < 0.5 || y.is_nan() {
+        return 0;
+    }
+    let whole = y as u16;
+    whole + u16::from(y - f64::from(whole) >= 0.5)
 }
 
 /// The sensor's fixed pattern on a `width` × `height` grid: per-pixel gain (PRNU, mean 1) and
@@ -215,19 +231,20 @@ impl FixedPattern {
     /// The fixed pattern of `spec` (its `prnu` and `dsnu_e`) on a `width` × `height` grid.
     pub fn new(spec: &ImagerSpec, width: usize, height: usize) -> FixedPattern {
         let s = PoseSampler::new(FIXED_PATTERN_SEED, FIXED_PATTERN_STREAM);
-        let map = |sigma: f64, dim: u32, mean: f64| Image {
-            width,
-            height,
-            data: (0..width * height)
-                .into_par_iter()
-                .map(|i| {
-                    if sigma == 0.0 {
-                        return mean;
+        let map = |sigma: f64, dim: u32, mean: f64| {
+            let mut data = vec![mean; width * height];
+            if sigma != 0.0 && width > 0 {
+                data.par_chunks_mut(width).enumerate().for_each(|(r, row)| {
+                    for (c, v) in row.iter_mut().enumerate() {
+                        *v = mean + sigma * standard_normal(s.uniform(pixel_key(c, r), dim));
                     }
-                    let key = pixel_key(i % width, i / width);
-                    mean + sigma * standard_normal(s.uniform(key, dim))
-                })
-                .collect(),
+                });
+            }
+            Image {
+                width,
+                height,
+                data,
+            }
         };
         let mut gain = map(spec.prnu, DIM_PRNU, 1.0);
         // A negative gain is unphysical; at PRNU ≤ 0.2 it would take a 5σ pixel.
@@ -275,47 +292,50 @@ pub fn expose(
     // The dark charge has one mean for every pixel, so inversion's e^(−μ) is computed once
     // (the same draw as `poisson`, uniform for uniform).
     let dark_p0 = (-dark_e).exp();
-    let dark = |key: u64| {
+    let dark = |pixel: IndexUniforms| {
         if dark_e > 0.0 && dark_e < INVERSION_MAX_MEAN {
-            poisson_inversion_from(dark_e, dark_p0, sampler.uniform(key, DIM_DARK))
+            poisson_inversion_from(dark_e, dark_p0, pixel.uniform(DIM_DARK))
         } else {
-            poisson(dark_e, draws(sampler, key, DIM_DARK))
+            poisson(dark_e, draws(pixel, DIM_DARK))
         }
     };
-    let charge: Vec<f64> = irradiance
-        .data
-        .par_iter()
-        .enumerate()
-        .map(|(i, &e)| {
-            let key = pixel_key(i % w, i / w);
-            let photons = spec.photons(e, pixel_area_m2, wavelength_m);
-            let mean_e = (spec.quantum_efficiency * photons * pattern.gain.data[i]).max(0.0);
-            poisson(mean_e, draws(sampler, key, DIM_PHOTO)) + dark(key)
-        })
-        .collect();
+    // Row by row: a pixel's key needs its column and row without a division per pixel.
     let mut electrons = Image {
         width: w,
         height: h,
-        data: charge,
+        data: vec![0.0; w * h],
     };
+    let span = |r: usize| r * w..(r + 1) * w;
+    let charge = electrons.data.par_chunks_mut(w.max(1)).enumerate();
+    charge.for_each(|(r, row)| {
+        let (light, gain) = (&irradiance.data[span(r)], &pattern.gain.data[span(r)]);
+        for (c, ((q, &e), &g)) in row.iter_mut().zip(light).zip(gain).enumerate() {
+            let pixel = sampler.at(pixel_key(c, r));
+            let photons = spec.photons(e, pixel_area_m2, wavelength_m);
+            let mean_e = (spec.quantum_efficiency * photons * g).max(0.0);
+            *q = poisson(mean_e, draws(pixel, DIM_PHOTO)) + dark(pixel);
+        }
+    });
     let lost_e = match spec.kind {
         SensorKind::Cmos => bloom::clip_to_full_well(&mut electrons, full_well),
         SensorKind::Ccd => bloom::bleed_columns(&mut electrons, full_well),
     };
     let max_dn = spec.max_dn();
-    let dn: Vec<u16> = electrons
-        .data
-        .par_iter()
+    let mut dn = vec![0u16; w * h];
+    dn.par_chunks_mut(w.max(1))
         .enumerate()
-        .map(|(i, &q)| {
-            let key = pixel_key(i % w, i / w);
-            let read = spec.read_noise_e * standard_normal(sampler.uniform(key, DIM_READ));
-            // A real ADC rounds without dither: quantisation noise σ_q² = 1/12 DN² (EMVA 1288).
-            let y =
-                spec.gain_dn_per_e * (q + read + pattern.offset_e.data[i]) + spec.dark_offset_dn;
-            y.round().clamp(0.0, f64::from(max_dn)) as u16
-        })
-        .collect();
+        .for_each(|(r, row)| {
+            let (charge, offset) = (&electrons.data[span(r)], &pattern.offset_e.data[span(r)]);
+            for (c, ((d, &q), &off)) in row.iter_mut().zip(charge).zip(offset).enumerate() {
+                let u = sampler.at(pixel_key(c, r)).uniform(DIM_READ);
+                let read = spec.read_noise_e * standard_normal(u);
+                // A real ADC rounds without dither: quantisation noise σ_q² = 1/12 DN² (EMVA 1288).
+                *d = digitise(
+                    spec.gain_dn_per_e * (q + read + off) + spec.dark_offset_dn,
+                    max_dn,
+                );
+            }
+        });
     let saturated = count_saturated(&electrons.data, &dn, full_well, max_dn);
     Exposure {
         dn: Image {
@@ -373,12 +393,42 @@ mod tests {
     use super::*;
     use crate::sensor::preset::scancontrol_2600_100;
 
+    #[test]
+    fn digitise_is_rounding_half_away_from_zero_then_clipping() {
+        let reference = |y: f64, max: u16| y.round().clamp(0.0, f64::from(max)) as u16;
+        let halves = [0.5, 1.5, 2.5, 1022.5, 1023.5, 4094.5];
+        let tricky = [
+            -0.5,
+            -0.0,
+            0.0,
+            0.499_999_999_999_999_94,
+            1e300,
+            -1e300,
+            f64::NAN,
+        ];
+        for max in [255u16, 1023, 4095, 65535] {
+            for &y in halves.iter().chain(&tricky) {
+                for y in [
+                    y,
+                    f64::from_bits(y.to_bits().wrapping_sub(1)),
+                    f64::from_bits(y.to_bits().wrapping_add(1)),
+                ] {
+                    assert_eq!(digitise(y, max), reference(y, max), "y = {y:e}, max {max}");
+                }
+            }
+            for i in 0..100_000 {
+                let y = f64::from(max) * 1.1 * (i as f64 / 100_000.0) - 2.0;
+                assert_eq!(digitise(y, max), reference(y, max), "y = {y:e}, max {max}");
+            }
+        }
+    }
+
     /// Mean and unbiased variance of `n` Poisson draws of mean `mu`, draw i keyed by i.
     fn sample_moments(mu: f64, n: u64, stream: u64) -> (f64, f64) {
         let s = PoseSampler::new(11, stream);
         let (mut m, mut m2) = (0.0, 0.0);
         for i in 0..n {
-            let k = poisson(mu, draws(&s, i, 0));
+            let k = poisson(mu, draws(s.at(i), 0));
             assert!(k >= 0.0 && k.fract() == 0.0, "{k}");
             // Shifted sums keep the variance exact at μ = 10⁵.
             let d = k - mu;

@@ -86,12 +86,54 @@ impl SensorHead {
     /// Builds the camera of `config`; fails if the measuring range does not image onto the
     /// pixel grid.
     pub fn new(config: &SensorConfig) -> Result<SensorHead, camera::CameraError> {
+        SensorHead::new_like(config, None)
+    }
+
+    /// [`SensorHead::new`], sharing `unit`'s fixed pattern where it is the pattern `config`
+    /// would make (the same PRNU, DSNU and pixel grid: the pattern depends on nothing else),
+    /// as the samples of a randomised dataset do; making it costs two Gaussian draws per pixel.
+    pub fn new_like(
+        config: &SensorConfig,
+        unit: Option<&SensorHead>,
+    ) -> Result<SensorHead, camera::CameraError> {
         let camera = camera::Camera::new(&config.camera, &config.range)?;
         let (w, h) = (camera.spec().columns, camera.spec().rows);
+        let fixed_pattern = match unit {
+            Some(u) if u.fixed_pattern.fits(&config.imager, w, h) => u.fixed_pattern.clone(),
+            _ => std::sync::Arc::new(emva::FixedPattern::new(&config.imager, w, h)),
+        };
         Ok(SensorHead {
             config: config.clone(),
             camera,
-            fixed_pattern: std::sync::Arc::new(emva::FixedPattern::new(&config.imager, w, h)),
+            fixed_pattern,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    #[test]
+    fn a_head_like_another_shares_its_fixed_pattern_only_where_it_is_the_same() {
+        let config = preset::scancontrol_2600_100();
+        let unit = SensorHead::new(&config).unwrap();
+        let mut exposed_longer = config.clone();
+        exposed_longer.imager.exposure_s *= 3.0;
+        let same = SensorHead::new_like(&exposed_longer, Some(&unit)).unwrap();
+        assert!(Arc::ptr_eq(&same.fixed_pattern, &unit.fixed_pattern));
+        assert_eq!(
+            *same.fixed_pattern,
+            *SensorHead::new(&exposed_longer).unwrap().fixed_pattern
+        );
+        let mut other_unit = config.clone();
+        other_unit.imager.prnu *= 2.0;
+        let other = SensorHead::new_like(&other_unit, Some(&unit)).unwrap();
+        assert!(!Arc::ptr_eq(&other.fixed_pattern, &unit.fixed_pattern));
+        assert_eq!(
+            *other.fixed_pattern,
+            *SensorHead::new(&other_unit).unwrap().fixed_pattern
+        );
     }
 }

@@ -10,12 +10,13 @@
 //! angles are those of the geometry, not of the noise draw (common random numbers).
 
 use nalgebra::Point3;
+use rayon::prelude::*;
 
 use super::side_by_side::map_poses;
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::scan::poses::plan_border_scan;
-use crate::scan::simulate::{sense, trace_pose};
+use crate::scan::simulate::{sense, trace_pose, Sensed};
 use crate::scan::ScanConfig;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorHead;
@@ -256,8 +257,20 @@ fn run_variant(
             super::tally::STOP_RULES,
         );
         // The exposure axis: the same light, sensed again (noise keyed on the seed and pose).
-        let by_exposure = PoseTally::for_heads(&irradiance, &heads, pose, &cfg.trace, &frame);
-        let result = sense(&irradiance, &setup.head, pose, &cfg.trace);
+        let mut sensed: Vec<Sensed> = heads
+            .par_iter()
+            .map(|head| sense(&irradiance, head, pose, &cfg.trace))
+            .collect();
+        let by_exposure = sensed
+            .iter()
+            .map(|s| PoseTally::new(s, &pose.sensor, &frame))
+            .collect();
+        // The scene's own sensor is one of the axis's settings by default (0.5 ms): what it
+        // makes of the light is then already sensed, bit for bit.
+        let result = match heads.iter().position(|h| h.config == setup.head.config) {
+            Some(own) => sensed.swap_remove(own),
+            None => sense(&irradiance, &setup.head, pose, &cfg.trace),
+        };
         let mut nearest: Option<f64> = None;
         let mut saturated_points = 0;
         let mut points = Vec::new();

@@ -385,6 +385,7 @@ impl<'a> Rendering<'a> {
                         scene: self.scene,
                         head: self.head,
                         aperture: Aperture::new(&self.head.camera, self.sensor_pose),
+                        polarization_axis: polarization_axis(self.head, self.sensor_pose),
                         settings: self.settings,
                         sampler: &self.sampler,
                         sets,
@@ -463,12 +464,26 @@ enum Connectable {
     Rough(RoughVertex),
 }
 
+/// The polarisation axis of the laser of `head` at `sensor_pose`, in the base frame (`None`:
+/// unpolarised): the same for every photon of a pose.
+fn polarization_axis(head: &SensorHead, sensor_pose: &Pose) -> Option<Vector3<f64>> {
+    match head.config.laser.polarization {
+        Polarization::Linear { angle_rad } => {
+            let axis = Vector3::new(angle_rad.cos(), angle_rad.sin(), 0.0);
+            Some(sensor_pose.rotation * axis)
+        }
+        Polarization::Unpolarized => None,
+    }
+}
+
 struct Tracer<'a> {
     scene: &'a TraceScene,
     head: &'a SensorHead,
     aperture: Aperture<'a>,
     settings: &'a TraceSettings,
     sampler: &'a PoseSampler,
+    /// The laser's polarisation axis in the base frame, `None` for an unpolarised laser.
+    polarization_axis: Option<Vector3<f64>>,
     sets: PhotonSets,
     focus: Option<FanFocus>,
     /// Keys the rough edge's microsurface walks with the seed and the photon.
@@ -516,12 +531,9 @@ impl Tracer<'_> {
         let [b1, b2, l1, l2] = self.sampler.lattice4(k, set.index);
         let ray = laser.sample_ray([fan_u, b1, b2, 0.0]);
         let dir = pose.rotation * ray.direction;
-        let stokes = match laser.polarization {
-            Polarization::Linear { angle_rad } => {
-                let axis = Vector3::new(angle_rad.cos(), angle_rad.sin(), 0.0);
-                Stokes::linear(&dir, &(pose.rotation * axis))
-            }
-            Polarization::Unpolarized => Stokes::unpolarized(&dir),
+        let stokes = match self.polarization_axis {
+            Some(axis) => Stokes::linear(&dir, &axis),
+            None => Stokes::unpolarized(&dir),
         };
         let photon = Photon {
             origin: pose * ray.origin,
