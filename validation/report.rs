@@ -204,6 +204,21 @@ fn sweep_report_has_a_row_per_cell_and_every_heat_map() {
         tmp.path().join("no/such/page.html").to_str().unwrap(),
     ]);
     assert_eq!(o2.status.code(), Some(2), "{}", stderr(&o2));
+    // An --out that names a file the page did not write (the run's own table, by mistake) or
+    // a directory: refused, naming it, and left as it was; an earlier page is replaced.
+    let table = out.join("cells.json");
+    let before = std::fs::read(&table).unwrap();
+    for target in [&table, &out] {
+        let o3 = glassscan(&["report", o, "--out", target.to_str().unwrap()]);
+        assert_eq!(o3.status.code(), Some(2), "{}", stderr(&o3));
+        let e = stderr(&o3);
+        assert!(
+            e.contains(target.to_str().unwrap()) && e.contains("not a page of `glassscan report`"),
+            "{e}"
+        );
+    }
+    assert_eq!(std::fs::read(&table).unwrap(), before);
+    run_ok(&["report", o, "--out", elsewhere.to_str().unwrap()]);
 }
 
 #[test]

@@ -25,7 +25,8 @@ macro_rules! exit_status {
             "    2  bad input, nothing done: a scene or suite file with a wrong value (the message\n",
             "       names file, line:column, field and what was expected), an unknown scene or\n",
             "       suite name (the message lists the shipped ones), a bad flag, or an output\n",
-            "       directory that is not empty (without --force) or not writable"
+            "       directory or file it must not write over (see --force or --resume where the\n",
+            "       command has them) or cannot write"
         )
     };
 }

@@ -13,7 +13,8 @@ use crate::report::{write_report, ReportError};
 pub struct ReportArgs {
     /// The run directory: the `--out` of `study scan-angle`, `sweep` or `locate`, or a dataset.
     pub run_dir: PathBuf,
-    /// Where to write the page. Default: RUN_DIR/report.html.
+    /// Where to write the page: a new file, or an earlier page of this command (any other
+    /// file is refused and left as it is). Default: RUN_DIR/report.html.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }

@@ -87,6 +87,10 @@ impl Table {
     }
 }
 
+/// How every page begins its generator tag (the version follows): what tells a page this
+/// command wrote from any other file (`report::write_report` replaces only such a page).
+pub const GENERATOR_META: &str = "<meta name=\"generator\" content=\"glassscan ";
+
 /// The page's style: readable tables, figures that fit the window, paper numbers set apart.
 const STYLE: &str = "\
 body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;margin:2rem auto;max-width:72rem;\
@@ -198,7 +202,7 @@ impl Page {
         format!(
             "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n\
              <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"/>\n\
-             <meta name=\"generator\" content=\"glassscan {}\"/>\n\
+             {GENERATOR_META}{}\"/>\n\
              <link rel=\"icon\" href=\"data:,\"/>\n<title>{}</title>\n<style>{STYLE}</style>\n\
              </head>\n<body>\n{}<footer><p class=\"sub\">Written by <code>glassscan report</code> \
              from the run's files. Quoted numbers of the paper (Adrian &amp; Pham, \

@@ -31,6 +31,7 @@ pub mod svg;
 pub mod sweep;
 pub mod xml_check;
 
+use std::io::Read;
 use std::path::Path;
 
 pub use detect::RunKind;
@@ -54,10 +55,46 @@ pub fn build(dir: &Path) -> Result<(RunKind, String), ReportError> {
 
 /// Builds the page of the run in `dir` and writes it to `out` atomically (an existing page is
 /// replaced only by a complete new one). Returns the kind of run.
+///
+/// `out` must be new or an earlier page of this command: any other file there (a run's own
+/// summary, given as `--out` by mistake) is bad input and stays as it was.
 pub fn write_report(dir: &Path, out: &Path) -> Result<RunKind, ReportError> {
+    refuse_to_replace_other_files(out)?;
     let (kind, page) = build(dir)?;
     write_atomic(out, |w| w.write_all(page.as_bytes())).map_err(ReportError::Write)?;
     Ok(kind)
+}
+
+/// An error unless `out` is free or holds a page of `glassscan report` (its generator tag
+/// within the first kilobyte).
+fn refuse_to_replace_other_files(out: &Path) -> Result<(), ReportError> {
+    let meta = match std::fs::symlink_metadata(out) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(ReportError::input(out, format!("cannot be inspected: {e}"))),
+        Ok(m) => m,
+    };
+    let refuse = |what: &str| {
+        ReportError::input(
+            out,
+            format!(
+                "{what}, not a page of `glassscan report`: it is left as it is; \
+                 choose another --out"
+            ),
+        )
+    };
+    if meta.is_dir() {
+        return Err(refuse("is a directory"));
+    }
+    let mut head = Vec::with_capacity(1024);
+    std::fs::File::open(out)
+        .and_then(|f| f.take(1024).read_to_end(&mut head))
+        .map_err(|e| ReportError::input(out, format!("cannot be read: {e}")))?;
+    let generator = html::GENERATOR_META.as_bytes();
+    if head.windows(generator.len()).any(|w| w == generator) {
+        Ok(())
+    } else {
+        Err(refuse("exists"))
+    }
 }
 
 /// The run's settings as a two-column table: each of `keys` (JSON member, label) that `node`
