@@ -487,6 +487,47 @@ fn two_shards_merged_equal_one_shard() {
 }
 
 #[test]
+fn merge_writes_over_no_file_a_dataset_did_not_write() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ds");
+    run_ok(&out, &["--shard", "0/2"], None);
+    run_ok(&out, &["--shard", "1/2"], None);
+    // A directory of someone else's manifest.jsonl (no run.json beside it), and a file.
+    let other = tmp.path().join("other");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::write(other.join("manifest.jsonl"), "someone's lines\n").unwrap();
+    let file = tmp.path().join("notes.txt");
+    std::fs::write(&file, "notes\n").unwrap();
+    for (target, says) in [
+        (
+            other.join("manifest.jsonl"),
+            "not a glassscan dataset's manifest",
+        ),
+        (file.clone(), "expected a directory"),
+    ] {
+        let dir = if target == file { &file } else { &other };
+        let o = glassscan(&["merge", s(&out), "--out", s(dir)], None);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains(s(&target)) && stderr(&o).contains(says),
+            "{}",
+            stderr(&o)
+        );
+    }
+    assert_eq!(
+        std::fs::read(other.join("manifest.jsonl")).unwrap(),
+        b"someone's lines\n"
+    );
+    assert!(!other.join("run.json").exists());
+    assert_eq!(std::fs::read(&file).unwrap(), b"notes\n");
+    // Merged once, merged again: the dataset's own manifest is replaced.
+    for _ in 0..2 {
+        let o = glassscan(&["merge", s(&out)], None);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+}
+
+#[test]
 fn bad_input_exits_with_code_2_and_names_the_culprit() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("x");

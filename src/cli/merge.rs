@@ -14,8 +14,10 @@ pub struct MergeArgs {
     /// Dataset directories holding shard manifests (manifest-shard-K-of-N.jsonl).
     #[arg(required = true)]
     pub dirs: Vec<PathBuf>,
-    /// Where to write manifest.jsonl (default: the first DIR). Sample directories stay where
-    /// they are; lines of samples in other directories get their absolute path.
+    /// Where to write manifest.jsonl (default: the first DIR): a directory, new or of this
+    /// dataset (its run.json); a manifest.jsonl with no run.json beside it is refused and left
+    /// as it is. Sample directories stay where they are; lines of samples in other
+    /// directories get their absolute path.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Print a machine-readable summary on stdout.

@@ -54,6 +54,13 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError>
             message: "expected a dataset directory to merge (made by `glassscan dataset`)".into(),
         });
     }
+    if out.exists() && !out.is_dir() {
+        return Err(DatasetError::NotADataset {
+            path: out.to_path_buf(),
+            message: "expected a directory to write the merged manifest.jsonl into, found a file"
+                .into(),
+        });
+    }
     let out_canonical =
         fs::canonicalize(out).map_err(|e| DatasetError::io(out, "open the output directory", e))?;
     let mut info: Option<(PathBuf, RunInfo)> = None;
@@ -110,6 +117,18 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError>
     check_coverage(&files, info.count)?;
 
     let out_run = out.join(RUN_FILE);
+    let manifest = out.join(MANIFEST);
+    // A merge writes run.json before its manifest, so a manifest.jsonl without one beside it
+    // was not written by a merge (nor by `dataset`): it is someone's file, left as it is.
+    if !out_run.exists() && manifest.exists() {
+        return Err(DatasetError::NotADataset {
+            path: manifest,
+            message: format!(
+                "exists with no {RUN_FILE} beside it: not a glassscan dataset's manifest, so it \
+                 is left as it is; choose another --out"
+            ),
+        });
+    }
     if out_run.exists() {
         let there: RunInfo = json::read_json(&out_run)?;
         let differences = there.differences(&info);
@@ -123,7 +142,6 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeOutcome, DatasetError>
         json::write_json_pretty(&out_run, &info)?;
     }
 
-    let manifest = out.join(MANIFEST);
     write_atomic(&manifest, |w| {
         let mut readers: Vec<Lines<BufReader<File>>> = files
             .iter()
