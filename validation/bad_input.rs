@@ -122,6 +122,7 @@ fn every_bad_input_exits_2_names_the_culprit_and_leaves_existing_output_intact()
     let no_bin = mesh_scene(dir, "no_bin.toml", &dir.join("no_bin.gltf"));
 
     let o_s = out.display().to_string();
+    let far_csv = dir.join("far.csv").display().to_string();
     let scan = |scene: &str, extra: &[&str]| {
         let mut a: Vec<String> = ["scan", scene, "--out", &o_s, "--force"]
             .map(String::from)
@@ -207,7 +208,7 @@ fn every_bad_input_exits_2_names_the_culprit_and_leaves_existing_output_intact()
         },
         Case {
             what: "register points at 1e300",
-            args: s(&["register", fp, &dir.join("far.csv").display().to_string()]),
+            args: s(&["register", fp, &far_csv]),
             needles: s(&["far.csv:2", "x_mm"]),
         },
         Case {
@@ -227,6 +228,11 @@ fn every_bad_input_exits_2_names_the_culprit_and_leaves_existing_output_intact()
             what: "merge of a missing directory",
             args: s(&["merge", "/nonexistent-dataset"]),
             needles: s(&["/nonexistent-dataset", "expected a dataset directory"]),
+        },
+        Case {
+            what: "scenes export into a file",
+            args: s(&["scenes", "export", "edge_study.toml", &far_csv]),
+            needles: s(&[&far_csv, "is a file, expected a directory"]),
         },
         Case {
             what: "verify of a run directory that is no dataset",

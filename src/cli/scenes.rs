@@ -217,6 +217,12 @@ pub fn referenced_meshes(scene: &ShippedFile) -> Vec<String> {
 
 fn export(args: &ExportArgs) -> Result<(), CliError> {
     let files = files_to_export(&args.name)?;
+    if args.dir.exists() && !args.dir.is_dir() {
+        return Err(CliError::input(anyhow::anyhow!(
+            "{}: is a file, expected a directory to export into (nothing was written)",
+            args.dir.display()
+        )));
+    }
     // Check every target before writing any: a refusal leaves DIR as it was.
     let mut plan = Vec::new();
     for f in files {
