@@ -123,6 +123,8 @@ fn every_bad_input_exits_2_names_the_culprit_and_leaves_existing_output_intact()
 
     let o_s = out.display().to_string();
     let far_csv = dir.join("far.csv").display().to_string();
+    let not_utf8_csv = dir.join("not_utf8.csv").display().to_string();
+    std::fs::write(&not_utf8_csv, b"x_mm,y_mm,z_mm\n\xff\xfe\n").unwrap();
     let scan = |scene: &str, extra: &[&str]| {
         let mut a: Vec<String> = ["scan", scene, "--out", &o_s, "--force"]
             .map(String::from)
@@ -228,6 +230,11 @@ fn every_bad_input_exits_2_names_the_culprit_and_leaves_existing_output_intact()
             what: "merge of a missing directory",
             args: s(&["merge", "/nonexistent-dataset"]),
             needles: s(&["/nonexistent-dataset", "expected a dataset directory"]),
+        },
+        Case {
+            what: "register points in a file that is not UTF-8",
+            args: s(&["register", fp, &not_utf8_csv]),
+            needles: s(&["not_utf8.csv", "valid UTF-8"]),
         },
         Case {
             what: "scenes export into a file",

@@ -137,9 +137,15 @@ impl CliError {
     pub fn from_file(error: crate::io::FileError) -> Self {
         use crate::io::FileError as E;
         match &error {
-            // A path the user named that does not exist is bad input; any other refusal of
-            // the file system is not the input's fault.
-            E::Io { source, .. } if source.kind() != std::io::ErrorKind::NotFound => {
+            // A path the user named that does not exist, or a text file that is not UTF-8
+            // (`InvalidData` from reading it as text), is bad input; any other refusal of the
+            // file system is not the input's fault.
+            E::Io { source, .. }
+                if !matches!(
+                    source.kind(),
+                    std::io::ErrorKind::NotFound | std::io::ErrorKind::InvalidData
+                ) =>
+            {
                 CliError::internal(error)
             }
             E::JsonWrite { .. } => CliError::internal(error),
