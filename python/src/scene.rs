@@ -7,6 +7,7 @@ use glassscan::cli::embed::{self, SceneOverrides};
 use glassscan::cli::CliError;
 use glassscan::dataset::ideal_profile::ideal_profile;
 use glassscan::dataset::sample::PreparedWorld;
+use glassscan::limits::MAX_LENGTH_MM;
 use glassscan::scan::adaptive::StopRules;
 use glassscan::scan::locate::laser_plane_crossing;
 use glassscan::scan::poses::{plan_border_scan, ScanPose};
@@ -245,9 +246,12 @@ impl Scene {
             .enumerate()
             .map(|(i, r)| (i, [r[0], r[1], r[2]]))
             .collect();
-        if let Some((i, _)) = rows.iter().find(|(_, p)| !p.iter().all(|v| v.is_finite())) {
+        // As `glassscan register` reads its CSV (`io::points_csv`): finite, within the bound
+        // every length a user gives has.
+        let within = |v: &f64| v.is_finite() && v.abs() <= MAX_LENGTH_MM;
+        if let Some((i, _)) = rows.iter().find(|(_, p)| !p.iter().all(within)) {
             return Err(input(anyhow::anyhow!(
-                "points: row {i} is not three finite numbers"
+                "points: row {i} is not three finite numbers of mm within ±1e5 (100 m)"
             )));
         }
         let world = self.world();

@@ -185,6 +185,26 @@ def test_bad_scene_files_raise_the_command_lines_message(tmp_path):
     assert issubclass(glassscan.InputError, glassscan.GlassscanError)
 
 
+def test_arguments_that_are_not_whole_numbers_in_range_name_themselves():
+    scene = glassscan.Scene.load(SCENE, poses=1)
+    for kwargs, name in [
+        ({"photons": -1}, "photons"),
+        ({"photons": 1e6}, "photons"),
+        ({"seed": -1}, "seed"),
+        ({"seed": 2**70}, "seed"),
+        ({"max_depth": 2**40}, "max_depth"),
+        ({"threads": -2}, "threads"),
+    ]:
+        with pytest.raises(glassscan.InputError, match=f"^{name} must be"):
+            scene.simulate(0, **kwargs)
+    for pose in (-1, 0.5):
+        with pytest.raises(glassscan.InputError, match="^pose must be"):
+            scene.simulate(pose, photons=4096)
+    # The constructor takes the native scene; a path or name gets the way to load one.
+    with pytest.raises(TypeError, match=r"Scene\.load"):
+        glassscan.Scene("edge_study")
+
+
 def test_a_shipped_scene_loads_by_name_from_any_directory(tmp_path, monkeypatch):
     # As the command line's SCENE: away from the repository the name reads the copy shipped
     # in the binary, the same scene as the file.
@@ -247,6 +267,9 @@ def test_register_equals_the_command_line(located):
         assert got[key] == expected[key], key
     with pytest.raises(glassscan.InputError, match="N × 3"):
         glassscan.register(SCENE, points[:, :2])
+    # Points the command line's CSV reader refuses (beyond ±100 m) are refused here too.
+    with pytest.raises(glassscan.InputError, match="row 2 .* within ±1e5"):
+        glassscan.register(SCENE, np.vstack([points[:2], [[1e300, 0.0, 0.0]], points[2:]]))
 
 
 def test_dataset_samples_are_the_files(dataset_dir):

@@ -16,6 +16,16 @@ from ._tables import ideal_table, profile_table
 PathLike = Union[str, "os.PathLike[str]"]
 
 
+def _whole(name: str, value: Any, most: int = 2**64 - 1) -> int:
+    """``value`` as a whole number in 0..=``most`` for the native layer, or an InputError
+    naming ``name`` (a float such as ``1e6`` or ``2.5`` is refused rather than truncated)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise _native.InputError(f"{name} must be a whole number, got {value!r}")
+    if not 0 <= int(value) <= most:
+        raise _native.InputError(f"{name} must be in 0..={most}, got {value}")
+    return int(value)
+
+
 def _threshold(threshold: Union[int, str, None]) -> Optional[str]:
     return None if threshold is None else str(threshold)
 
@@ -78,6 +88,11 @@ class Scene:
     """
 
     def __init__(self, native: "_native.Scene"):
+        if not isinstance(native, _native.Scene):
+            raise TypeError(
+                f"Scene({native!r}): load a scene with Scene.load(path or shipped name) or "
+                "Scene.from_toml(text)"
+            )
         self._native = native
 
     @classmethod
@@ -204,11 +219,11 @@ class Scene:
             threads: worker threads (default: all cores); results do not depend on it.
         """
         raw = self._native.simulate(
-            int(pose),
-            photons=None if photons == "auto" else photons,
-            seed=seed,
-            max_depth=max_depth,
-            threads=threads,
+            _whole("pose", pose),
+            photons=None if photons == "auto" else _whole("photons", photons),
+            seed=_whole("seed", seed),
+            max_depth=_whole("max_depth", max_depth, 2**32 - 1),
+            threads=None if threads is None else _whole("threads", threads),
         )
         truth = dict(raw["ground_truth"])
         truth["ideal_profile"] = ideal_table(truth["ideal_profile"])
