@@ -10,13 +10,12 @@
 //! angles are those of the geometry, not of the noise draw (common random numbers).
 
 use nalgebra::Point3;
-use rayon::prelude::*;
 
 use super::side_by_side::map_poses;
 use crate::geometry::border::BorderCurve;
 use crate::geometry::pose::Pose;
 use crate::scan::poses::plan_border_scan;
-use crate::scan::simulate::{sense, trace_pose, Sensed};
+use crate::scan::simulate::{sense, trace_pose};
 use crate::scan::ScanConfig;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorHead;
@@ -24,7 +23,7 @@ use crate::transport::{TraceScene, TraceSettings};
 
 use super::as_typed;
 use super::edge_frame::EdgeFrame;
-use super::tally::{by_setting, PoseTally, RuleSummary};
+use super::tally::{by_setting, sensed_by_each, PoseTally, RuleSummary};
 use crate::localise::metrics::Stats;
 
 /// The three steps of the paper's experiment.
@@ -257,10 +256,7 @@ fn run_variant(
             super::tally::STOP_RULES,
         );
         // The exposure axis: the same light, sensed again (noise keyed on the seed and pose).
-        let mut sensed: Vec<Sensed> = heads
-            .par_iter()
-            .map(|head| sense(&irradiance, head, pose, &cfg.trace))
-            .collect();
+        let mut sensed = sensed_by_each(&irradiance, &heads, pose, &cfg.trace);
         let by_exposure = sensed
             .iter()
             .map(|s| PoseTally::new(s, &pose.sensor, &frame))

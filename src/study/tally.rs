@@ -84,11 +84,25 @@ impl PoseTally {
         trace: &TraceSettings,
         frame: &EdgeFrame,
     ) -> Vec<PoseTally> {
-        heads
-            .par_iter()
-            .map(|head| PoseTally::new(&sense(irradiance, head, pose, trace), &pose.sensor, frame))
+        sensed_by_each(irradiance, heads, pose, trace)
+            .iter()
+            .map(|s| PoseTally::new(s, &pose.sensor, frame))
             .collect()
     }
+}
+
+/// One traced pose's light sensed by each of `heads`, in parallel, in `heads`' order: what
+/// [`PoseTally::for_heads`] reduces, for a caller that also keeps a profile.
+pub fn sensed_by_each(
+    irradiance: &Irradiance,
+    heads: &[SensorHead],
+    pose: &ScanPose,
+    trace: &TraceSettings,
+) -> Vec<Sensed> {
+    heads
+        .par_iter()
+        .map(|head| sense(irradiance, head, pose, trace))
+        .collect()
 }
 
 /// Tallies made pose by pose, one per sensor setting (`by_pose[pose][setting]`), regrouped by
