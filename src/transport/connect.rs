@@ -143,7 +143,7 @@ fn trace_chain<const RADIOMETRY: bool>(
     let mut crossed_glass = false;
     for interface in 0..=MAX_INTERFACES {
         let t_plane = aperture.plane_distance(&o, &d)?;
-        let query = || scene.accel.closest_hit_leaving(&o, &d, leaving, t_plane);
+        let query = || scene.closest_hit_leaving(&o, &d, leaving, t_plane);
         let hit = match hints.map(|h| (h.triangles.get(interface), h.complete)) {
             Some((Some(&tri), _)) => {
                 scene
@@ -472,10 +472,7 @@ pub fn connect(
     };
     let mut checked: Option<bool> = None;
     let mut may_land_once = || *checked.get_or_insert_with(may_land);
-    match scene
-        .accel
-        .closest_hit_leaving(x, &s, vertex.triangle, dist)
-    {
+    match scene.closest_hit_leaving(x, &s, vertex.triangle, dist) {
         None => {
             out[0] = Some(Connection {
                 dir: s,

@@ -39,6 +39,7 @@ pub mod interaction;
 pub mod layered;
 pub mod lens;
 pub mod scene;
+pub mod slab_crossing;
 pub mod trace;
 
 pub use crate::sensor::path_class::PathClass;

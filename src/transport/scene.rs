@@ -6,7 +6,8 @@ use nalgebra::{Point3, Vector3};
 use super::connect::{VertexOnSurface, MAX_INTERFACES};
 use super::cylinder_pane::{coaxial_radius_ratio, FaceVertex};
 use super::deviation::DeviationBound;
-use crate::geometry::accel::{SceneAccel, SceneTriangle};
+use super::slab_crossing::SlabCrossings;
+use crate::geometry::accel::{Hit, SceneAccel, SceneTriangle};
 use crate::geometry::mesh::SurfacePart;
 use crate::optics::lambert::Lambertian;
 use crate::scene::world::{Material, ObjectLabel, World};
@@ -63,6 +64,9 @@ pub struct TraceScene {
     /// which lets a camera connection through the slab be solved without tracing a seed chain
     /// first (`connect`); `None` elsewhere.
     pub slab_faces: Vec<Option<SlabFace>>,
+    /// The flat panes' lookup grids: a ray crossing one from face to face gets its closest hit
+    /// without a BVH query ([`TraceScene::closest_hit_leaving`]).
+    pub slab_crossings: SlabCrossings,
     /// Per world object index: for a flat pane with a rough edge that no other glass
     /// overlaps, its faces' normal and index, which tell at once which chains launched into it
     /// cannot leave it ([`TraceScene::cannot_leave`]).
@@ -291,6 +295,7 @@ impl TraceScene {
         let accel = SceneAccel::build(triangles);
         let deviation = DeviationBound::of_scene(&accel, &surfaces, MAX_INTERFACES);
         let slab_faces = slab_faces(&accel, &surfaces);
+        let slab_crossings = SlabCrossings::new(&accel, &slab_faces);
         let (flat_panes, traps_light) = panes(&accel, &surfaces, world.objects.len());
         Ok(TraceScene {
             accel,
@@ -298,6 +303,7 @@ impl TraceScene {
             direct_class,
             deviation,
             slab_faces,
+            slab_crossings,
             flat_panes,
             traps_light,
         })
@@ -317,6 +323,20 @@ impl TraceScene {
         let w = dir.normalize();
         let c = w.dot(&pane.normal);
         w.dot(&vertex.ng) < 0.0 && (1.0 - c * c) * pane.eta * pane.eta >= 1.0 + TRAPPED_MARGIN
+    }
+
+    /// `SceneAccel::closest_hit_leaving`, bit for bit; a ray crossing a flat pane from face to
+    /// face with nothing else in the way gets its hit without a BVH query (`slab_crossing`).
+    pub fn closest_hit_leaving(
+        &self,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        leaving: u32,
+        t_max: f64,
+    ) -> Option<Hit> {
+        self.slab_crossings
+            .closest_hit(&self.accel, leaving, origin, dir, t_max)
+            .unwrap_or_else(|| self.accel.closest_hit_leaving(origin, dir, leaving, t_max))
     }
 
     /// The glass surface model of material `m`, if it is glass.

@@ -560,7 +560,10 @@ impl Tracer<'_> {
             let hit = match photon.leaving {
                 _ if depth == 0 => first_hit,
                 None => accel.closest_hit(&photon.origin, &photon.dir, 0.0, FAR_M),
-                Some(tri) => accel.closest_hit_leaving(&photon.origin, &photon.dir, tri, FAR_M),
+                Some(tri) => {
+                    self.scene
+                        .closest_hit_leaving(&photon.origin, &photon.dir, tri, FAR_M)
+                }
             };
             if photon.all_specular && depth > 0 {
                 let t_max = hit.as_ref().map_or(FAR_M, |h| h.t);
