@@ -374,13 +374,27 @@ impl SceneAccel {
         dir: &Vector3<f64>,
         t_max: f64,
     ) -> Option<Hit> {
+        self.hit_on_triangle_within(tri, origin, dir, NEAR_HIT_M, t_max)
+    }
+
+    /// [`SceneAccel::hit_on_triangle`] with the least distance `t_min` instead of
+    /// [`NEAR_HIT_M`]: where nothing else can be hit, a query from a surface keeps a hit down
+    /// to [`SELF_HIT_T_MIN_M`] (its near candidates are re-tested in f64).
+    pub fn hit_on_triangle_within(
+        &self,
+        tri: u32,
+        origin: &Point3<f64>,
+        dir: &Vector3<f64>,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
         if !self.exact[tri as usize].completes_in_f64(dir) {
             return None;
         }
         let hit = self.make_hit(tri, origin, dir, || (f64::NAN, f32::NAN, f32::NAN));
         let [u, v] = hit.barycentric;
         let inside = u >= INTERIOR_MARGIN && v >= INTERIOR_MARGIN && 1.0 - u - v >= INTERIOR_MARGIN;
-        (inside && hit.t >= NEAR_HIT_M && hit.t <= t_max).then_some(hit)
+        (inside && hit.t >= t_min && hit.t <= t_max).then_some(hit)
     }
 
     /// Whether anything blocks `origin + t·dir` for t in [t_min, t_max) (`dir` unit length).
