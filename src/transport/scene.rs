@@ -64,8 +64,9 @@ pub struct TraceScene {
     /// which lets a camera connection through the slab be solved without tracing a seed chain
     /// first (`connect`); `None` elsewhere.
     pub slab_faces: Vec<Option<SlabFace>>,
-    /// The flat panes' lookup grids: a ray crossing one from face to face gets its closest hit
-    /// without a BVH query ([`TraceScene::closest_hit_leaving`]).
+    /// The layers around the flat panes (their glass, the air up to a parallel surface beyond a
+    /// face, an empty side): a ray crossing one gets its closest hit without a BVH query
+    /// ([`TraceScene::closest_hit_leaving`]).
     pub slab_crossings: SlabCrossings,
     /// Per world object index: for a flat pane with a rough edge that no other glass
     /// overlaps, its faces' normal and index, which tell at once which chains launched into it
@@ -325,8 +326,8 @@ impl TraceScene {
         w.dot(&vertex.ng) < 0.0 && (1.0 - c * c) * pane.eta * pane.eta >= 1.0 + TRAPPED_MARGIN
     }
 
-    /// `SceneAccel::closest_hit_leaving`, bit for bit; a ray crossing a flat pane from face to
-    /// face with nothing else in the way gets its hit without a BVH query (`slab_crossing`).
+    /// `SceneAccel::closest_hit_leaving`, bit for bit; a ray crossing a layer around a flat pane
+    /// with nothing else in the way gets its hit without a BVH query (`slab_crossing`).
     pub fn closest_hit_leaving(
         &self,
         origin: &Point3<f64>,
