@@ -797,6 +797,19 @@ mod tests {
         assert!(t.hits_on[1] >= t.out_of_bottom[0], "{t:?}");
     }
 
+    /// The triangle of face `part` of the pane at `point` (well inside it).
+    fn face_at(scene: &TraceScene, part: SurfacePart, point: &Point3<f64>) -> u32 {
+        let up = Vector3::z();
+        (0..scene.accel.triangle_count() as u32)
+            .find(|&i| {
+                scene.accel.triangle(i).part == part
+                    && (scene.accel)
+                        .hit_on_triangle(i, &(point - up * 1e-3), &up, 1.0)
+                        .is_some()
+            })
+            .unwrap_or_else(|| panic!("no {part:?} triangle at {point}"))
+    }
+
     #[test]
     fn something_inside_the_pane_or_on_it_is_never_skipped() {
         // A 2 × 2 × 1 mm opaque inclusion in the middle of the 4 mm pane, 150 mm in from its
@@ -825,16 +838,7 @@ pose = { translation_mm = [50, 50, 4.07] }
         // Straight up through the inclusion from the bottom face: its hit, not the top face.
         let origin = Point3::new(0.6e-3, 0.3e-3, 0.01e-3);
         let up = Vector3::z();
-        let bottom = (0..scene.accel.triangle_count() as u32)
-            .find(|&i| {
-                let t = scene.accel.triangle(i);
-                t.part == SurfacePart::BottomFace
-                    && scene
-                        .accel
-                        .hit_on_triangle(i, &(origin - up * 1e-3), &up, 1.0)
-                        .is_some()
-            })
-            .expect("the bottom face under the inclusion");
+        let bottom = face_at(&scene, SurfacePart::BottomFace, &origin);
         let hit = scene
             .closest_hit_leaving(&origin, &up, bottom, 1.0)
             .unwrap();
@@ -842,16 +846,7 @@ pose = { translation_mm = [50, 50, 4.07] }
         assert!((hit.t - 1.5e-3).abs() < 1e-9, "{hit:?}");
         // Straight up from the top face under the foil: the foil's underside, 10 µm up.
         let origin = Point3::new(50.3e-3, 50.2e-3, 4.01e-3);
-        let top = (0..scene.accel.triangle_count() as u32)
-            .find(|&i| {
-                let t = scene.accel.triangle(i);
-                t.part == SurfacePart::TopFace
-                    && scene
-                        .accel
-                        .hit_on_triangle(i, &(origin - up * 1e-3), &up, 1.0)
-                        .is_some()
-            })
-            .expect("the top face under the foil");
+        let top = face_at(&scene, SurfacePart::TopFace, &origin);
         let answer = scene
             .slab_crossings
             .closest_hit(&scene.accel, top, &origin, &up, 1.0);
