@@ -254,8 +254,7 @@ impl SlabCrossings {
             // Beyond the top face (along m) and beyond the bottom face (along −m).
             for (out, face) in [(m, &pane.top), (-m, &pane.bottom)] {
                 let level = out.dot(&accel.triangle(face[0]).vertices[0].coords);
-                let exclude: Vec<u32> = pane.top.iter().chain(&pane.bottom).copied().collect();
-                match beyond(accel, &out, level, &exclude) {
+                match beyond(accel, &out, level) {
                     Beyond::Nothing => {
                         let (upper, lower): (&[u32], &[u32]) =
                             if out == m { (&[], face) } else { (face, &[]) };
@@ -379,11 +378,11 @@ fn footprint(accel: &SceneAccel, pane: &PaneFaces) -> Option<([f64; 2], [f64; 2]
     (extent > 0.0 && extent.is_finite()).then_some((lo, hi))
 }
 
-/// What lies beyond the plane at `level` along `out` (unit), the triangles `exclude` (the
-/// pane's faces) left out: nothing (no vertex more than [`LEVEL_TOLERANCE_M`] beyond it), the
-/// nearest plane of triangles parallel to it at least [`MIN_GAP_M`] beyond, or something else.
-fn beyond(accel: &SceneAccel, out: &Vector3<f64>, level: f64, exclude: &[u32]) -> Beyond {
-    let excluded: std::collections::HashSet<u32> = exclude.iter().copied().collect();
+/// What lies beyond the plane at `level` along `out` (unit): nothing (no vertex more than
+/// [`LEVEL_TOLERANCE_M`] beyond it), the nearest plane of triangles parallel to it at least
+/// [`MIN_GAP_M`] beyond, or something else. The pane's own faces lie on or behind the plane,
+/// so they count as neither.
+fn beyond(accel: &SceneAccel, out: &Vector3<f64>, level: f64) -> Beyond {
     let mut anything = false;
     let mut nearest: Option<f64> = None;
     let flat_at = |i: u32| -> Option<f64> {
@@ -392,9 +391,6 @@ fn beyond(accel: &SceneAccel, out: &Vector3<f64>, level: f64, exclude: &[u32]) -
         (hi - lo <= LEVEL_TOLERANCE_M).then_some((lo + hi) / 2.0)
     };
     for i in 0..accel.triangle_count() as u32 {
-        if excluded.contains(&i) {
-            continue;
-        }
         let top = (accel.triangle(i).vertices)
             .iter()
             .map(|p| out.dot(&p.coords))
@@ -413,7 +409,6 @@ fn beyond(accel: &SceneAccel, out: &Vector3<f64>, level: f64, exclude: &[u32]) -
         (true, Some(h)) => Beyond::Plane(
             h,
             (0..accel.triangle_count() as u32)
-                .filter(|i| !excluded.contains(i))
                 .filter(|&i| flat_at(i).is_some_and(|f| (f - h).abs() <= LEVEL_TOLERANCE_M))
                 .collect(),
         ),
