@@ -8,7 +8,7 @@ use super::adaptive::{agree, newest_half, StopRules};
 use super::poses::ScanPose;
 use crate::sampler::PoseSampler;
 use crate::sensor::diffraction::{AiryPsf, DIFFRACTION_OVERSAMPLING};
-use crate::sensor::emva::frame_sampler;
+use crate::sensor::emva::{expose_drawn, frame_sampler, Exposure, FrameDraws};
 use crate::sensor::image::Image;
 use crate::sensor::path_class::PathClass;
 use crate::sensor::profile::{extract, Profile};
@@ -228,6 +228,41 @@ pub fn sense(
         &frame_sampler(settings.seed, pose.index as u64),
         &head.fixed_pattern,
     );
+    profile_of(exposure, irradiance, head)
+}
+
+/// The frame draws of `pose` under `settings` (the read noise's deviates and the dark charge's
+/// uniforms, which no exposure setting changes) for `irradiance`'s grid: what [`sense_drawn`]
+/// takes when one pose's light is sensed with several settings of one sensor.
+pub fn frame_draws(
+    irradiance: &Irradiance,
+    pose: &ScanPose,
+    settings: &TraceSettings,
+) -> FrameDraws {
+    FrameDraws::new(
+        &frame_sampler(settings.seed, pose.index as u64),
+        irradiance.total.width,
+        irradiance.total.height,
+    )
+}
+
+/// [`sense`] with the pose's [`frame_draws`] made beforehand: bit for bit its result.
+pub fn sense_drawn(irradiance: &Irradiance, head: &SensorHead, draws: &FrameDraws) -> Sensed {
+    let cfg = &head.config;
+    let exposure = expose_drawn(
+        &cfg.imager,
+        &irradiance.total,
+        head.camera.pixel_area(),
+        cfg.laser.wavelength_m,
+        draws,
+        &head.fixed_pattern,
+    );
+    profile_of(exposure, irradiance, head)
+}
+
+/// The firmware's profile of an exposure of `irradiance`.
+fn profile_of(exposure: Exposure, irradiance: &Irradiance, head: &SensorHead) -> Sensed {
+    let cfg = &head.config;
     let profile = extract(
         &exposure.dn,
         cfg.imager.max_dn(),

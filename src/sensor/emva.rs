@@ -276,6 +276,137 @@ pub fn expose(
     sampler: &PoseSampler,
     pattern: &FixedPattern,
 ) -> Exposure {
+    let light = Light {
+        irradiance,
+        pixel_area_m2,
+        wavelength_m,
+    };
+    expose_with(spec, &light, sampler, &Keyed(*sampler), pattern)
+}
+
+/// [`expose`] with the frame's draws that no exposure setting changes made beforehand: bit for
+/// bit `expose(spec, irradiance, …, &draws.sampler(), pattern)`. Several exposures of one
+/// frame (a study's exposure axis) share one [`FrameDraws`] and skip most of the hashing and
+/// all of the read noise's inverse normal CDF.
+///
+/// # Panics
+/// If `draws` were made for another grid than `irradiance`'s.
+pub fn expose_drawn(
+    spec: &ImagerSpec,
+    irradiance: &Image<f64>,
+    pixel_area_m2: f64,
+    wavelength_m: f64,
+    draws: &FrameDraws,
+    pattern: &FixedPattern,
+) -> Exposure {
+    assert_eq!(
+        (draws.width, draws.height),
+        (irradiance.width, irradiance.height),
+        "frame draws of another grid"
+    );
+    let light = Light {
+        irradiance,
+        pixel_area_m2,
+        wavelength_m,
+    };
+    expose_with(spec, &light, &draws.sampler, draws, pattern)
+}
+
+/// The draws of one frame that do not depend on the exposure setting, per pixel (row-major):
+/// the dark charge's first uniform (dimension [`DIM_DARK`], all an inversion draw takes) and
+/// the read noise's standard normal deviate (dimension [`DIM_READ`]). They depend only on the
+/// frame's sampler and the pixel, so every exposure of the frame draws the same ones.
+#[derive(Clone, Debug)]
+pub struct FrameDraws {
+    sampler: PoseSampler,
+    width: usize,
+    height: usize,
+    dark_u: Vec<f64>,
+    read_z: Vec<f64>,
+}
+
+impl FrameDraws {
+    /// The draws of the frame keyed by `sampler` on a `width` × `height` grid.
+    pub fn new(sampler: &PoseSampler, width: usize, height: usize) -> FrameDraws {
+        let (mut dark_u, mut read_z) = (vec![0.0; width * height], vec![0.0; width * height]);
+        if width > 0 {
+            let rows = dark_u
+                .par_chunks_mut(width)
+                .zip(read_z.par_chunks_mut(width));
+            rows.enumerate().for_each(|(r, (dark, read))| {
+                for (c, (d, z)) in dark.iter_mut().zip(read).enumerate() {
+                    let pixel = sampler.at(pixel_key(c, r));
+                    *d = pixel.uniform(DIM_DARK);
+                    *z = standard_normal(pixel.uniform(DIM_READ));
+                }
+            });
+        }
+        FrameDraws {
+            sampler: *sampler,
+            width,
+            height,
+            dark_u,
+            read_z,
+        }
+    }
+
+    /// The sampler the draws come from.
+    pub fn sampler(&self) -> PoseSampler {
+        self.sampler
+    }
+}
+
+/// Where an exposure takes a pixel's exposure-independent draws from.
+trait PixelDraws: Sync {
+    /// The dark charge's first uniform of pixel (`column`, `row`), row-major number `index`.
+    fn dark_uniform(&self, column: usize, row: usize, index: usize) -> f64;
+    /// The read noise's standard normal deviate of that pixel.
+    fn read_deviate(&self, column: usize, row: usize, index: usize) -> f64;
+}
+
+/// Drawn pixel by pixel from the frame's sampler (one exposure of a frame).
+struct Keyed(PoseSampler);
+
+impl PixelDraws for Keyed {
+    fn dark_uniform(&self, column: usize, row: usize, _: usize) -> f64 {
+        self.0.at(pixel_key(column, row)).uniform(DIM_DARK)
+    }
+
+    fn read_deviate(&self, column: usize, row: usize, _: usize) -> f64 {
+        standard_normal(self.0.at(pixel_key(column, row)).uniform(DIM_READ))
+    }
+}
+
+impl PixelDraws for FrameDraws {
+    fn dark_uniform(&self, _: usize, _: usize, index: usize) -> f64 {
+        self.dark_u[index]
+    }
+
+    fn read_deviate(&self, _: usize, _: usize, index: usize) -> f64 {
+        self.read_z[index]
+    }
+}
+
+/// The light an exposure integrates: irradiance (W/m²) on pixels of an area at a wavelength.
+struct Light<'a> {
+    irradiance: &'a Image<f64>,
+    pixel_area_m2: f64,
+    wavelength_m: f64,
+}
+
+/// [`expose`] with the exposure-independent draws of `pixel_draws`, which come from `sampler`.
+fn expose_with(
+    spec: &ImagerSpec,
+    light: &Light,
+    sampler: &PoseSampler,
+    pixel_draws: &impl PixelDraws,
+    pattern: &FixedPattern,
+) -> Exposure {
+    let Light {
+        irradiance,
+        pixel_area_m2,
+        wavelength_m,
+    } = *light;
     if !spec.noise {
         return expose_mean(spec, irradiance, pixel_area_m2, wavelength_m);
     }
@@ -292,11 +423,11 @@ pub fn expose(
     // The dark charge has one mean for every pixel, so inversion's e^(−μ) is computed once
     // (the same draw as `poisson`, uniform for uniform).
     let dark_p0 = (-dark_e).exp();
-    let dark = |pixel: IndexUniforms| {
+    let dark = |c: usize, r: usize, i: usize| {
         if dark_e > 0.0 && dark_e < INVERSION_MAX_MEAN {
-            poisson_inversion_from(dark_e, dark_p0, pixel.uniform(DIM_DARK))
+            poisson_inversion_from(dark_e, dark_p0, pixel_draws.dark_uniform(c, r, i))
         } else {
-            poisson(dark_e, draws(pixel, DIM_DARK))
+            poisson(dark_e, draws(sampler.at(pixel_key(c, r)), DIM_DARK))
         }
     };
     // Row by row: a pixel's key needs its column and row without a division per pixel.
@@ -310,10 +441,15 @@ pub fn expose(
     charge.for_each(|(r, row)| {
         let (light, gain) = (&irradiance.data[span(r)], &pattern.gain.data[span(r)]);
         for (c, ((q, &e), &g)) in row.iter_mut().zip(light).zip(gain).enumerate() {
-            let pixel = sampler.at(pixel_key(c, r));
             let photons = spec.photons(e, pixel_area_m2, wavelength_m);
             let mean_e = (spec.quantum_efficiency * photons * g).max(0.0);
-            *q = poisson(mean_e, draws(pixel, DIM_PHOTO)) + dark(pixel);
+            // `poisson` of a mean of 0 is 0 without a draw: a dark pixel needs no hash here.
+            let photo_e = if mean_e > 0.0 {
+                poisson(mean_e, draws(sampler.at(pixel_key(c, r)), DIM_PHOTO))
+            } else {
+                0.0
+            };
+            *q = photo_e + dark(c, r, r * w + c);
         }
     });
     let lost_e = match spec.kind {
@@ -327,8 +463,7 @@ pub fn expose(
         .for_each(|(r, row)| {
             let (charge, offset) = (&electrons.data[span(r)], &pattern.offset_e.data[span(r)]);
             for (c, ((d, &q), &off)) in row.iter_mut().zip(charge).zip(offset).enumerate() {
-                let u = sampler.at(pixel_key(c, r)).uniform(DIM_READ);
-                let read = spec.read_noise_e * standard_normal(u);
+                let read = spec.read_noise_e * pixel_draws.read_deviate(c, r, r * w + c);
                 // A real ADC rounds without dither: quantisation noise σ_q² = 1/12 DN² (EMVA 1288).
                 *d = digitise(
                     spec.gain_dn_per_e * (q + read + off) + spec.dark_offset_dn,
@@ -519,6 +654,53 @@ mod tests {
         assert!(
             mean.abs() < 0.013 && (var - 1.0).abs() < 0.018,
             "{mean} {var}"
+        );
+    }
+
+    #[test]
+    fn exposures_from_frame_draws_are_the_keyed_ones_bit_for_bit() {
+        // A frame with dark pixels, faint ones (inversion), bright ones (PTRS) and saturated
+        // ones, exposed as a study's exposure axis does, with both sensor kinds and a dark
+        // current large enough for PTRS (μ_I·t = 50 e⁻ at 0.5 ms) as well as the preset's.
+        let (w, h) = (23, 9);
+        let mut e = Image::<f64>::new(w, h);
+        for (i, v) in e.data.iter_mut().enumerate() {
+            *v = if i % 3 == 0 {
+                0.0
+            } else {
+                1e-3 * (i * i) as f64
+            };
+        }
+        let (area, lambda) = (9.4e-6 * 9.4e-6, 658e-9);
+        let sampler = frame_sampler(7, 3);
+        let draws = FrameDraws::new(&sampler, w, h);
+        let base = scancontrol_2600_100().imager;
+        let mut compared = 0;
+        for kind in [SensorKind::Cmos, SensorKind::Ccd] {
+            for dark_current in [base.dark_current_e_per_s, 1e5] {
+                for exposure_s in [0.15e-3, 0.5e-3, 1.5e-3] {
+                    let spec = ImagerSpec {
+                        kind,
+                        dark_current_e_per_s: dark_current,
+                        exposure_s,
+                        ..base
+                    };
+                    let pattern = FixedPattern::new(&spec, w, h);
+                    let keyed = expose(&spec, &e, area, lambda, &sampler, &pattern);
+                    let drawn = expose_drawn(&spec, &e, area, lambda, &draws, &pattern);
+                    assert_eq!(drawn, keyed, "{kind:?}, μ_I {dark_current}, t {exposure_s}");
+                    assert!(keyed.saturated > 0 && keyed.dn.data.iter().any(|&d| d > 0));
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 12);
+        // Draws of another frame give another image: the comparison above can fail.
+        let other = FrameDraws::new(&frame_sampler(7, 4), w, h);
+        let pattern = FixedPattern::new(&base, w, h);
+        assert_ne!(
+            expose_drawn(&base, &e, area, lambda, &other, &pattern).dn,
+            expose(&base, &e, area, lambda, &sampler, &pattern).dn
         );
     }
 

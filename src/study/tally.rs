@@ -12,7 +12,7 @@ use crate::localise::metrics::Stats;
 use crate::scan::adaptive::StopRules;
 use crate::scan::bip::{find_bip, BipRule};
 use crate::scan::poses::ScanPose;
-use crate::scan::simulate::{sense, Sensed};
+use crate::scan::simulate::{frame_draws, sense, sense_drawn, Sensed};
 use crate::sensor::path_class::PathClass;
 use crate::sensor::SensorHead;
 use crate::transport::{Irradiance, TraceSettings};
@@ -92,16 +92,26 @@ impl PoseTally {
 }
 
 /// One traced pose's light sensed by each of `heads`, in parallel, in `heads`' order: what
-/// [`PoseTally::for_heads`] reduces, for a caller that also keeps a profile.
+/// [`PoseTally::for_heads`] reduces, for a caller that also keeps a profile. The heads are
+/// settings of one sensor (a study's exposure axis), so the frame's exposure-independent draws
+/// are made once for all of them (`scan::simulate::frame_draws`); each result is
+/// [`sense`]'s bit for bit.
 pub fn sensed_by_each(
     irradiance: &Irradiance,
     heads: &[SensorHead],
     pose: &ScanPose,
     trace: &TraceSettings,
 ) -> Vec<Sensed> {
+    if heads.len() < 2 {
+        return heads
+            .iter()
+            .map(|head| sense(irradiance, head, pose, trace))
+            .collect();
+    }
+    let draws = frame_draws(irradiance, pose, trace);
     heads
         .par_iter()
-        .map(|head| sense(irradiance, head, pose, trace))
+        .map(|head| sense_drawn(irradiance, head, &draws))
         .collect()
 }
 
