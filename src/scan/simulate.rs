@@ -171,7 +171,7 @@ pub fn trace_pose(
     }
     let mut rendering = pose_rendering(scene, head, pose, settings);
     rendering.trace_to(settings.photons);
-    let (mut irradiance, stats) = rendering.develop();
+    let (mut irradiance, stats) = rendering.into_developed();
     apply_lens_psf(&mut irradiance, head, pose, settings.seed);
     (irradiance, stats)
 }

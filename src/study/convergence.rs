@@ -197,7 +197,7 @@ pub fn sample_twin_profiles(
         for pose in poses {
             let mut rendering = pose_rendering(trace, head, pose, &light);
             rendering.trace_to(photons);
-            let (mut irradiance, stats) = rendering.develop();
+            let (mut irradiance, stats) = rendering.into_developed();
             apply_lens_psf(&mut irradiance, head, pose, seed);
             let sensed = sense(&irradiance, head, pose, &sensor);
             out.push(ProfileSample::of(

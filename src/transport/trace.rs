@@ -294,7 +294,7 @@ pub fn render(
 ) -> (Irradiance, TraceStats) {
     let mut rendering = Rendering::new(scene, head, sensor_pose, settings, pose_index);
     rendering.trace_to(settings.photons);
-    rendering.develop()
+    rendering.into_developed()
 }
 
 /// A rendering: the photons 0..n traced so far, summed on a film, and developed into images at
@@ -410,11 +410,25 @@ impl<'a> Rendering<'a> {
     pub fn develop(&self) -> (Irradiance, TraceStats) {
         let per_photon = 1.0 / self.traced.max(1) as f64;
         let image = self.film.develop(self.head.camera.pixel_area(), per_photon);
+        (image, self.stats_per_photon(per_photon))
+    }
+
+    /// [`Rendering::develop`] at the end of the rendering: the film becomes the images
+    /// (`Film::into_irradiance`), bit for bit `develop`'s.
+    pub fn into_developed(self) -> (Irradiance, TraceStats) {
+        let per_photon = 1.0 / self.traced.max(1) as f64;
+        let stats = self.stats_per_photon(per_photon);
+        let area = self.head.camera.pixel_area();
+        (self.film.into_irradiance(area, per_photon), stats)
+    }
+
+    /// The counters, their powers per photon traced.
+    fn stats_per_photon(&self, per_photon: f64) -> TraceStats {
         let mut stats = self.stats;
         stats.flux_on_sensor_w *= per_photon;
         stats.truncated_power_w *= per_photon;
         stats.absorbed_w *= per_photon;
-        (image, stats)
+        stats
     }
 }
 
