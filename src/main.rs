@@ -18,7 +18,7 @@ fn main() -> std::process::ExitCode {
 /// glibc unmaps whole once they empty, whatever the threshold, unless the top pad says to keep
 /// that much beyond the last block (glibc 2.36 `heap_trim`); so each sample faulted its images
 /// in again. A 64 MiB pad keeps them: `dataset edge_study_bare --count 8` spends 0.16 instead
-/// of 0.45 s in the kernel and 0.93× the CPU time, with the same peak memory (benches/README.md,
+/// of 0.45 s in the kernel and 0.92× the CPU time, with the same peak memory (benches/README.md,
 /// 2026-12-07, evening). Untouched padding is address space, not memory.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn keep_freed_memory() {
