@@ -88,8 +88,8 @@ impl Film {
     }
 
     /// [`Film::develop`] when no more light will be added: the film's own images become the
-    /// irradiance, scaled in place, bit for bit `develop`'s. A pose's film is nine 4 MB
-    /// images; developing a copy allocated and wrote as many again.
+    /// irradiance, scaled in place, bit for bit `develop`'s. A pose's film is twelve 4 MB
+    /// images (the total and eleven path classes); developing a copy allocated as many again.
     pub fn into_irradiance(self, pixel_area_m2: f64, scale: f64) -> Irradiance {
         let Film {
             mut total,
