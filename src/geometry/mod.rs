@@ -12,4 +12,5 @@ pub mod cuboid;
 pub mod mesh;
 pub mod mesh_border;
 pub mod panel;
+pub mod planar;
 pub mod pose;

@@ -285,7 +285,7 @@ pub fn expose(
 }
 
 /// [`expose`] with the frame's draws that no exposure setting changes made beforehand: bit for
-/// bit `expose(spec, irradiance, …, &draws.sampler(), pattern)`. Several exposures of one
+/// bit `expose` with the sampler the draws were made from. Several exposures of one
 /// frame (a study's exposure axis) share one [`FrameDraws`] and skip most of the hashing and
 /// all of the read noise's inverse normal CDF.
 ///
@@ -348,11 +348,6 @@ impl FrameDraws {
             dark_u,
             read_z,
         }
-    }
-
-    /// The sampler the draws come from.
-    pub fn sampler(&self) -> PoseSampler {
-        self.sampler
     }
 }
 

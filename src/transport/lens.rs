@@ -3,6 +3,7 @@
 
 use nalgebra::{Point3, Vector3};
 
+use crate::geometry::planar::{cross, point_segment_dist2};
 use crate::geometry::pose::Pose;
 use crate::sensor::camera::Camera;
 
@@ -149,24 +150,13 @@ const LANDING_MARGIN_M: f64 = 1e-3;
 
 /// Distance (m) from `p` to the convex quadrilateral `quad` (0 inside).
 fn distance_to_quad(p: [f64; 2], quad: &[[f64; 2]; 4]) -> f64 {
-    let cross = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
-        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-    };
     // An array, not a Vec: this runs at every vertex of every photon (`far_from_view`).
     let sides: [f64; 4] = std::array::from_fn(|i| cross(quad[i], quad[(i + 1) % 4], p));
     if sides.iter().all(|&s| s >= 0.0) || sides.iter().all(|&s| s <= 0.0) {
         return 0.0;
     }
     (0..4)
-        .map(|i| {
-            let (a, b) = (quad[i], quad[(i + 1) % 4]);
-            let ab = [b[0] - a[0], b[1] - a[1]];
-            let ap = [p[0] - a[0], p[1] - a[1]];
-            let t =
-                ((ap[0] * ab[0] + ap[1] * ab[1]) / (ab[0] * ab[0] + ab[1] * ab[1])).clamp(0.0, 1.0);
-            let (dx, dy) = (ap[0] - t * ab[0], ap[1] - t * ab[1]);
-            dx * dx + dy * dy
-        })
+        .map(|i| point_segment_dist2(p, quad[i], quad[(i + 1) % 4]))
         .fold(f64::INFINITY, f64::min)
         // One square root of the least squared distance: `hypot` per side was a third of the
         // far-from-view test, which runs at every vertex (issue 11).

@@ -51,6 +51,7 @@ use nalgebra::{Point3, Vector3};
 use super::scene::SlabFace;
 use crate::geometry::accel::{Hit, SceneAccel, SELF_HIT_T_MIN_M};
 use crate::geometry::mesh::SurfacePart;
+use crate::geometry::planar::{cross, point_segment_dist2, segments_cross};
 use crate::optics::lambert::orthonormal_basis;
 
 /// Least |cos| between a crossing ray and the planes' normal (about 84° from the normal): rays
@@ -659,32 +660,6 @@ impl Obstacle {
                 || point_segment_dist2(e0, a, b) < c2
         })
     }
-}
-
-/// (b − a) × (c − a).
-fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-}
-
-/// Whether segments a–b and c–d cross (touching counts).
-fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
-    let (d1, d2) = (cross(a, b, c), cross(a, b, d));
-    let (d3, d4) = (cross(c, d, a), cross(c, d, b));
-    (d1 * d2 <= 0.0) && (d3 * d4 <= 0.0)
-}
-
-/// Squared distance from p to the segment a–b.
-fn point_segment_dist2(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let ap = [p[0] - a[0], p[1] - a[1]];
-    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-    let s = if len2 > 0.0 {
-        ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let d = [ap[0] - s * ab[0], ap[1] - s * ab[1]];
-    d[0] * d[0] + d[1] * d[1]
 }
 
 #[cfg(test)]
