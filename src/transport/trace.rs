@@ -18,7 +18,7 @@ use crate::optics::uniform_stream::{KeyedStream, UniformSource};
 use crate::optics::warp::concentric_disk;
 use crate::sampler::PoseSampler;
 use crate::sensor::path_class::PathClass;
-use crate::sensor::projector::Polarization;
+use crate::sensor::projector::{LaserRaySampler, Polarization};
 use crate::sensor::SensorHead;
 
 /// Photons per work unit. Fixed (not derived from the thread count) so that results do not
@@ -384,6 +384,7 @@ impl<'a> Rendering<'a> {
                     let mut tracer = Tracer {
                         scene: self.scene,
                         head: self.head,
+                        laser_rays: self.head.config.laser.ray_sampler(),
                         aperture: Aperture::new(&self.head.camera, self.sensor_pose),
                         polarization_axis: polarization_axis(self.head, self.sensor_pose),
                         settings: self.settings,
@@ -493,6 +494,8 @@ fn polarization_axis(head: &SensorHead, sensor_pose: &Pose) -> Option<Vector3<f6
 struct Tracer<'a> {
     scene: &'a TraceScene,
     head: &'a SensorHead,
+    /// The laser's rays (`head`'s laser sheet, its shared terms computed once).
+    laser_rays: LaserRaySampler,
     aperture: Aperture<'a>,
     settings: &'a TraceSettings,
     sampler: &'a PoseSampler,
@@ -543,7 +546,7 @@ impl Tracer<'_> {
         let fan_u = (k as f64 + self.sampler.uniform(i, 0)) / set.size as f64;
         let (fan_u, focus_weight) = self.focus.map_or((fan_u, 1.0), |f| f.warp(fan_u));
         let [b1, b2, l1, l2] = self.sampler.lattice4(k, set.index);
-        let ray = laser.sample_ray([fan_u, b1, b2, 0.0]);
+        let ray = self.laser_rays.sample_ray([fan_u, b1, b2, 0.0]);
         let dir = pose.rotation * ray.direction;
         let stokes = match self.polarization_axis {
             Some(axis) => Stokes::linear(&dir, &axis),
