@@ -101,14 +101,7 @@ impl LaserSheet {
 
     /// Fan angle φ for a uniform number `u` in [0, 1): the inverse CDF of the line profile.
     pub fn fan_angle(&self, u: f64) -> f64 {
-        let half = 0.5 * self.fan_angle_rad;
-        match self.line_profile {
-            LineProfile::Uniform => ((2.0 * u - 1.0) * half.tan()).atan(),
-            LineProfile::Gaussian { half_angle_1e2_rad } => {
-                let (sigma, lo, hi) = truncated_normal(half_angle_1e2_rad, half);
-                sigma * normal_quantile(lo + u * (hi - lo))
-            }
-        }
+        self.ray_sampler().fan_angle(u)
     }
 
     /// The fraction of the laser's power between the fan's edge at −half the fan angle and the
@@ -170,7 +163,11 @@ impl LaserRaySampler {
     fn fan_angle(&self, u: f64) -> f64 {
         match self.sheet.line_profile {
             LineProfile::Uniform => ((2.0 * u - 1.0) * self.tan_half_fan).atan(),
-            LineProfile::Gaussian { .. } => self.sheet.fan_angle(u),
+            LineProfile::Gaussian { half_angle_1e2_rad } => {
+                let half = 0.5 * self.sheet.fan_angle_rad;
+                let (sigma, lo, hi) = truncated_normal(half_angle_1e2_rad, half);
+                sigma * normal_quantile(lo + u * (hi - lo))
+            }
         }
     }
 

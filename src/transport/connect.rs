@@ -808,6 +808,17 @@ mod tests {
         );
     }
 
+    /// The point `d` (m) from p_e towards the pane's centre (the pane is centred on the base
+    /// frame's origin), at height `z` (m).
+    fn inward_of_p_e(pose: &crate::scan::poses::ScanPose, d: f64, z: f64) -> Point3<f64> {
+        let inward = (-pose.edge_point.coords).xy().normalize();
+        Point3::new(
+            pose.edge_point.x + inward.x * d,
+            pose.edge_point.y + inward.y * d,
+            z,
+        )
+    }
+
     #[test]
     fn a_connection_through_the_slab_is_the_one_the_seed_chain_finds() {
         // Points of the table under the pane, connected to lens points across the aperture:
@@ -816,15 +827,8 @@ mod tests {
         let aperture = Aperture::new(&head.camera, &pose.sensor);
         let mut compared = 0;
         for k in 0..40 {
-            // Table points 1 to 20 mm from p_e towards the pane's centre (the pane is centred
-            // on the origin of the base frame).
-            let inward = (-pose.edge_point.coords).xy().normalize();
-            let d = 1e-3 + 0.5e-3 * k as f64;
-            let x = Point3::new(
-                pose.edge_point.x + inward.x * d,
-                pose.edge_point.y + inward.y * d,
-                -1e-3,
-            );
+            // Table points 1 to 20 mm from p_e towards the pane's centre.
+            let x = inward_of_p_e(&pose, 1e-3 + 0.5e-3 * k as f64, -1e-3);
             // The table's top (z = 0) from below, so the pane above is not met first.
             let Some(floor) = scene.accel.closest_hit(&x, &Vector3::z(), 0.0, 2e-3) else {
                 continue;
@@ -881,15 +885,9 @@ mod tests {
             .expect("the pane's glass");
         let (mut beyond, mut connected) = (0, 0);
         for k in 0..40 {
-            // 6 to 25.5 mm from p_e: nearer, the chains towards the lens meet the rough edge.
-            let inward = (-pose.edge_point.coords).xy().normalize();
-            let d = 6e-3 + 0.5e-3 * k as f64;
-            // Inside the 4 mm pane, looking down at its bottom face.
-            let x = Point3::new(
-                pose.edge_point.x + inward.x * d,
-                pose.edge_point.y + inward.y * d,
-                pose.edge_point.z - 2e-3,
-            );
+            // Inside the 4 mm pane, 6 to 25.5 mm from p_e (nearer, the chains towards the lens
+            // meet the rough edge), looking down at its bottom face.
+            let x = inward_of_p_e(&pose, 6e-3 + 0.5e-3 * k as f64, pose.edge_point.z - 2e-3);
             let Some(floor) = scene.accel.closest_hit(&x, &-Vector3::z(), 0.0, 3e-3) else {
                 continue;
             };
