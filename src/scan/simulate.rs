@@ -107,20 +107,23 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
             );
             // speckled / (P∗I): the mean of the coherent image is the blurred rough light.
             let mut mean = Image::<f64>::new(w, h);
-            psf.blur_rows_into(&rough, rough_rows.unwrap_or(0..0), &mut mean);
+            psf.blur_rows_onto_zeros(&rough, rough_rows.unwrap_or(0..0), &mut mean);
             for (s, m) in speckled.data.iter_mut().zip(&mean.data) {
                 *s = if *m > 0.0 { *s / m } else { 0.0 };
             }
             Some(speckled)
         }
     };
+    // All zero before each blur: after the swap it holds the class's unblurred light, which
+    // is zero outside the class's lit rows, so clearing those rows zeroes it again.
     let mut blurred = Image::<f64>::new(w, h);
     for (k, layer) in irradiance.by_class.iter_mut().enumerate() {
         let Some(rows) = &bands[k] else {
             continue;
         };
-        psf.blur_rows_into(layer, rows.clone(), &mut blurred);
+        psf.blur_rows_onto_zeros(layer, rows.clone(), &mut blurred);
         std::mem::swap(layer, &mut blurred);
+        blurred.data[rows.start * w..rows.end * w].fill(0.0);
         if let (Some(ratio), false) = (&ratio, k == glint) {
             let span = widen(rows);
             let span = span.start * w..span.end * w;
@@ -130,8 +133,18 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
                 .for_each(|(v, r)| *v *= r);
         }
     }
+    // The total is the classes' sum, so it is zero outside their lit rows: clearing those
+    // rows clears it.
     let total = &mut irradiance.total;
-    total.data.fill(0.0);
+    let lit = bands
+        .iter()
+        .flatten()
+        .fold(None, |all: Option<Range<usize>>, r| {
+            Some(all.map_or(r.clone(), |a| a.start.min(r.start)..a.end.max(r.end)))
+        });
+    if let Some(lit) = lit {
+        total.data[lit.start * w..lit.end * w].fill(0.0);
+    }
     for (layer, rows) in irradiance.by_class.iter().zip(&bands) {
         if let Some(rows) = rows {
             let span = widen(rows);

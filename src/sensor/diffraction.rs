@@ -196,11 +196,25 @@ impl AiryPsf {
     /// read and only the output rows within the kernel's reach of them are computed (the rest
     /// of `out` is zero), with the same result.
     pub fn blur_rows_into(&self, image: &Image<f64>, rows: Range<usize>, out: &mut Image<f64>) {
-        let (w, h) = (image.width, image.height);
-        out.width = w;
-        out.height = h;
+        out.width = image.width;
+        out.height = image.height;
         out.data.clear();
-        out.data.resize(w * h, 0.0);
+        out.data.resize(image.width * image.height, 0.0);
+        self.blur_rows_onto_zeros(image, rows, out);
+    }
+
+    /// [`AiryPsf::blur_rows_into`] where `out` is already an all-zero image of `image`'s size:
+    /// the same result without clearing the whole frame (4 MB a call), for callers that keep a
+    /// zeroed buffer by clearing only the rows they dirtied.
+    pub fn blur_rows_onto_zeros(
+        &self,
+        image: &Image<f64>,
+        rows: Range<usize>,
+        out: &mut Image<f64>,
+    ) {
+        let (w, h) = (image.width, image.height);
+        assert!(out.width == w && out.height == h && out.data.len() == w * h);
+        debug_assert!(out.data.iter().all(|&v| v == 0.0), "`out` must be zero");
         let rows = rows.start.min(h)..rows.end.min(h);
         if w == 0 || h == 0 || rows.is_empty() {
             return;

@@ -63,7 +63,9 @@ impl DeviationBound {
             return None;
         }
         let lateral = k * self.path_m / distance_m;
-        let sin = turn.tan() * (1.0 + lateral) + lateral;
+        // Flat panes turn nothing; tan(0) = 0 without the call, a connection's cost otherwise.
+        let tan_turn = if turn == 0.0 { 0.0 } else { turn.tan() };
+        let sin = tan_turn * (1.0 + lateral) + lateral;
         (sin < 0.5).then(|| sin.asin())
     }
 
