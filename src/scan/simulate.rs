@@ -89,9 +89,7 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
             let mut rough_rows: Option<Range<usize>> = None;
             for (k, layer) in irradiance.by_class.iter().enumerate() {
                 if let (Some(rows), false) = (&bands[k], k == glint) {
-                    rough_rows = Some(rough_rows.map_or(rows.clone(), |r| {
-                        r.start.min(rows.start)..r.end.max(rows.end)
-                    }));
+                    rough_rows = Some(row_hull(rough_rows, rows));
                     let span = rows.start * w..rows.end * w;
                     rough.data[span.clone()]
                         .iter_mut()
@@ -139,9 +137,7 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
     let lit = bands
         .iter()
         .flatten()
-        .fold(None, |all: Option<Range<usize>>, r| {
-            Some(all.map_or(r.clone(), |a| a.start.min(r.start)..a.end.max(r.end)))
-        });
+        .fold(None, |all, r| Some(row_hull(all, r)));
     if let Some(lit) = lit {
         total.data[lit.start * w..lit.end * w].fill(0.0);
     }
@@ -155,6 +151,13 @@ pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &Sca
                 .for_each(|(t, v)| *t += v);
         }
     }
+}
+
+/// The smallest range of rows holding `all` (if any) and `rows`.
+fn row_hull(all: Option<Range<usize>>, rows: &Range<usize>) -> Range<usize> {
+    all.map_or(rows.clone(), |a| {
+        a.start.min(rows.start)..a.end.max(rows.end)
+    })
 }
 
 /// The rows from the first to the last that hold a non-zero pixel; `None` for a dark image.

@@ -63,9 +63,7 @@ impl DeviationBound {
             return None;
         }
         let lateral = k * self.path_m / distance_m;
-        // Flat panes turn nothing; tan(0) = 0 without the call, a connection's cost otherwise.
-        let tan_turn = if turn == 0.0 { 0.0 } else { turn.tan() };
-        let sin = tan_turn * (1.0 + lateral) + lateral;
+        let sin = turn.tan() * (1.0 + lateral) + lateral;
         (sin < 0.5).then(|| sin.asin())
     }
 
