@@ -39,6 +39,10 @@ pub struct SpeckleSettings {
     pub contrast: f64,
     /// Sub-samples per pixel and axis of the coherent grid (≥ 2): the grid must resolve the
     /// Airy core (radius 1.22·λ·N_w ≈ 2.4 µm at f/2.8, 6.9 µm at f/8; pixels are 9.4 µm).
+    /// The pixels' speckle contrast converges to the analytic one as the grid is refined: for
+    /// the shipped head it is 10 % low at 8×, 1 % at 16× (validation
+    /// `physics::speckle::pixel_integrated_speckle_contrast_…`), while the lens stage's cost
+    /// grows as the square of this number.
     pub oversampling: usize,
 }
 
