@@ -18,7 +18,6 @@ mod traced_pose;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use glassscan::sampler::PoseSampler;
 use glassscan::scan::simulate::apply_lens_psf;
-use glassscan::sensor::diffraction::AiryPsf;
 use glassscan::sensor::image::Image;
 use glassscan::sensor::path_class::PathClass;
 use glassscan::sensor::SensorHead;
@@ -56,12 +55,7 @@ fn bench(c: &mut Criterion) {
     let traced = rough_light(&irradiance);
     let cam = &head.camera;
     let speckle = head.config.speckle.expect("the preset has speckle on");
-    let psf = AiryPsf::new(
-        head.config.laser.wavelength_m,
-        cam.working_f_number(0.0, head.config.range.z_mid_m()),
-        cam.spec().pixel_pitch_m,
-        speckle.oversampling,
-    );
+    let psf = head.lens_psf(speckle.oversampling);
     let spec = cam.spec();
     let line = synthetic_line(spec.columns, spec.rows);
     let sampler = PoseSampler::new(1, 0x5bec_1e00_0000_0000);

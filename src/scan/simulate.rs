@@ -7,7 +7,7 @@ use std::ops::Range;
 use super::adaptive::{agree, newest_half, StopRules};
 use super::poses::ScanPose;
 use crate::sampler::PoseSampler;
-use crate::sensor::diffraction::{AiryPsf, DIFFRACTION_OVERSAMPLING};
+use crate::sensor::diffraction::DIFFRACTION_OVERSAMPLING;
 use crate::sensor::emva::{expose_drawn, frame_sampler, Exposure, FrameDraws};
 use crate::sensor::image::Image;
 use crate::sensor::path_class::PathClass;
@@ -65,14 +65,8 @@ const SPECKLE_STREAM: u64 = 0x5bec_1e00_0000_0000;
 /// This is [`trace_pose`]'s stage after the transport (public for the benchmark); `seed` and
 /// `pose.index` key the speckle phases.
 pub fn apply_lens_psf(irradiance: &mut Irradiance, head: &SensorHead, pose: &ScanPose, seed: u64) {
-    let cam = &head.camera;
     let speckle = head.config.speckle;
-    let psf = AiryPsf::new(
-        head.config.laser.wavelength_m,
-        cam.working_f_number(0.0, head.config.range.z_mid_m()),
-        cam.spec().pixel_pitch_m,
-        speckle.map_or(DIFFRACTION_OVERSAMPLING, |s| s.oversampling),
-    );
+    let psf = head.lens_psf(speckle.map_or(DIFFRACTION_OVERSAMPLING, |s| s.oversampling));
     let glint = PathClass::Glint.index();
     let (w, h) = (irradiance.total.width, irradiance.total.height);
     // The rows that hold light, per class (`None`: the class is dark): the passes below touch
@@ -458,13 +452,7 @@ mod tests {
             assert!(newly_lit > 100);
             // The glint is blurred by the incoherent PSF in both modes.
             let glint = PathClass::Glint.index();
-            let psf = AiryPsf::new(
-                head.config.laser.wavelength_m,
-                head.camera
-                    .working_f_number(0.0, head.config.range.z_mid_m()),
-                spec.pixel_pitch_m,
-                DIFFRACTION_OVERSAMPLING,
-            );
+            let psf = head.lens_psf(DIFFRACTION_OVERSAMPLING);
             assert_eq!(after.by_class[glint], psf.blur(&before.by_class[glint]));
             // The layers hold all the light: the total is the lens's image of the traced light
             // (speckled rough light plus the blurred glint; or everything blurred).

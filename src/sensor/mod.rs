@@ -108,6 +108,24 @@ impl SensorHead {
             fixed_pattern,
         })
     }
+
+    /// The lens's image-side working f-number, taken at mid-range for the whole image (the
+    /// lens stage's one PSF, `scan::simulate::apply_lens_psf`).
+    pub fn lens_f_number(&self) -> f64 {
+        self.camera
+            .working_f_number(0.0, self.config.range.z_mid_m())
+    }
+
+    /// The lens's Airy PSF at [`SensorHead::lens_f_number`] and the laser's wavelength, on a
+    /// grid of `oversampling` sub-samples per pixel and axis.
+    pub fn lens_psf(&self, oversampling: usize) -> diffraction::AiryPsf {
+        diffraction::AiryPsf::new(
+            self.config.laser.wavelength_m,
+            self.lens_f_number(),
+            self.camera.spec().pixel_pitch_m,
+            oversampling,
+        )
+    }
 }
 
 #[cfg(test)]
