@@ -92,11 +92,12 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
-    // The same rays eight at a time (`SceneAccel::closest_hits`, the tracer's primary rays).
+    // The same rays through `SceneAccel::closest_hits` (the tracer's primary rays): the fan's in
+    // bundles of 64, the random rays one at a time after the coherence check finds them apart.
     let mut hits = Vec::with_capacity(n as usize);
     for (name, rays) in [
-        ("closest_hits_laser_fan_packets", fan_rays(n)),
-        ("closest_hits_random_packets", random_rays(n)),
+        ("closest_hits_laser_fan_bundles", fan_rays(n)),
+        ("closest_hits_random", random_rays(n)),
     ] {
         g.bench_function(name, |b| {
             b.iter(|| {

@@ -26,7 +26,8 @@ use crate::sensor::SensorHead;
 const CHUNK: u64 = 4096;
 
 /// Photons whose laser rays are traced together before their walks (`Tracer::trace_photons`):
-/// eight packets, small enough for the photons and hits to stay in the L1 and L2 caches.
+/// one bundle of `SceneAccel::closest_hits`, small enough for the photons and hits to stay in
+/// the L1 and L2 caches.
 const PRIMARY_GROUP: usize = 64;
 
 /// Longest ray considered (m).
@@ -511,8 +512,9 @@ struct Tracer<'a> {
 
 impl Tracer<'_> {
     /// Traces photons `start..end` in order, a group at a time: the group's laser rays first,
-    /// eight at a time (`SceneAccel::closest_hits`: the fan's rays are coherent, and a packet of
-    /// them costs a fraction of eight single rays), then each photon's walk from its first hit.
+    /// as one bundle (`SceneAccel::closest_hits`: the fan's rays are coherent, and a bundle of
+    /// them costs a fraction of as many single rays), then each photon's walk from its first
+    /// hit.
     /// The hits are each ray's own bit for bit and every random number is keyed by the photon,
     /// so the result is that of tracing the photons one by one.
     fn trace_photons(&mut self, start: u64, end: u64) {

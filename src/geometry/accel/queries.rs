@@ -33,7 +33,7 @@ pub(super) struct HitData<'a> {
 
 impl HitData<'_> {
     #[inline(always)]
-    fn prefetch(&self, id: u32) {
+    pub(super) fn prefetch(&self, id: u32) {
         prefetch(&self.exact[id as usize]);
         prefetch(&self.input[id as usize]);
     }

@@ -171,18 +171,21 @@ unsafe fn run_avx2<V: Visitor>(
 }
 
 /// The eight-box test.
-trait BoxTest {
+pub(super) trait BoxTest {
+    /// What is tested: one ray ([`Prepared`]) or a bundle of rays (`packet::Bundle`).
+    type Rays;
     /// Writes the entry distances of the children into `t_near` and returns the mask of
     /// children whose box the ray meets within [t_min, bound·FAR_SCALE].
     ///
     /// # Safety
     /// The CPU must support the instructions the implementation uses.
-    unsafe fn test(node: &Node, p: &Prepared, bound: f32, t_near: &mut [f32; WIDTH]) -> u32;
+    unsafe fn test(node: &Node, p: &Self::Rays, bound: f32, t_near: &mut [f32; WIDTH]) -> u32;
 }
 
 struct ScalarBoxes;
 
 impl BoxTest for ScalarBoxes {
+    type Rays = Prepared;
     #[inline(always)]
     unsafe fn test(node: &Node, p: &Prepared, bound: f32, t_near: &mut [f32; WIDTH]) -> u32 {
         let mut mask = 0;
@@ -207,6 +210,7 @@ struct Sse2Boxes;
 
 #[cfg(target_arch = "x86_64")]
 impl BoxTest for Sse2Boxes {
+    type Rays = Prepared;
     #[inline(always)]
     unsafe fn test(node: &Node, p: &Prepared, bound: f32, t_near: &mut [f32; WIDTH]) -> u32 {
         use std::arch::x86_64::*;
@@ -244,6 +248,7 @@ struct Avx2Boxes;
 
 #[cfg(target_arch = "x86_64")]
 impl BoxTest for Avx2Boxes {
+    type Rays = Prepared;
     #[inline(always)]
     unsafe fn test(node: &Node, p: &Prepared, bound: f32, t_near: &mut [f32; WIDTH]) -> u32 {
         use std::arch::x86_64::*;
@@ -297,9 +302,9 @@ unsafe fn prefetch_child(bvh: &WideBvh, c: ChildRef) {
 /// # Safety
 /// `B` must be runnable on this CPU and `stack` must hold `bvh.max_stack` entries.
 #[inline(always)]
-unsafe fn run_loop<B: BoxTest, V: Visitor>(
+pub(super) unsafe fn run_loop<B: BoxTest, V: Visitor>(
     bvh: &WideBvh,
-    p: &Prepared,
+    p: &B::Rays,
     visitor: &mut V,
     stack: &mut [MaybeUninit<(ChildRef, f32)>],
 ) {
