@@ -476,8 +476,10 @@ mod tests {
                 psf.blur(&before.total)
             };
             let max = expected.data.iter().copied().fold(0.0, f64::max);
+            // The speckle FFT's f32 rounding (`sensor::speckle::fft`): relative to the
+            // brightest pixel, not to each pixel.
             for (a, e) in after.total.data.iter().zip(&expected.data) {
-                assert!((a - e).abs() <= 1e-12 * e.max(1e-6 * max), "{a} vs {e}");
+                assert!((a - e).abs() <= 2e-6 * max, "{a} vs {e}");
             }
         }
     }
