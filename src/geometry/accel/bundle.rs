@@ -37,7 +37,7 @@ use std::arch::x86_64::*;
 use std::mem::MaybeUninit;
 
 use super::build::{ChildRef, Node, WideBvh, WIDTH};
-use super::queries::{Found, HitData};
+use super::queries::{better, Found, HitData};
 use super::traverse::{run_loop, BoxTest, Prepared, Visitor, FAR_SCALE, STACK};
 use super::triangles::{Ray, TrianglePacket, LANES, PAD};
 
@@ -275,7 +275,7 @@ impl<'a> ClosestBundle<'a> {
                 let t = ts[l];
                 let best = self.rays.best.get_unchecked_mut(i).get_unchecked_mut(l);
                 let found = self.found.get_unchecked_mut(k);
-                if t < *best || (t == *best && found.is_some_and(|f| id < f.id)) {
+                if better(t, id, *best, found) {
                     self.data.prefetch(id);
                     *best = t;
                     *found = Some(Found {

@@ -64,7 +64,7 @@ impl<'a> Closest<'a> {
 
 /// Whether a candidate at `t` with input index `id` beats the current best.
 #[inline(always)]
-fn better(t: f32, id: u32, best: f32, found: &Option<Found>) -> bool {
+pub(super) fn better(t: f32, id: u32, best: f32, found: &Option<Found>) -> bool {
     t < best || (t == best && found.is_some_and(|f| id < f.id))
 }
 
