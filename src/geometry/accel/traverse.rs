@@ -172,7 +172,7 @@ unsafe fn run_avx2<V: Visitor>(
 
 /// The eight-box test.
 pub(super) trait BoxTest {
-    /// What is tested: one ray ([`Prepared`]) or a bundle of rays (`packet::Bundle`).
+    /// What is tested: one ray ([`Prepared`]) or a bundle of rays (`bundle::Bundle`).
     type Rays;
     /// Writes the entry distances of the children into `t_near` and returns the mask of
     /// children whose box the ray meets within [t_min, bound·FAR_SCALE].
