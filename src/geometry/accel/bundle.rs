@@ -34,11 +34,10 @@
 #![cfg(target_arch = "x86_64")]
 
 use std::arch::x86_64::*;
-use std::mem::MaybeUninit;
 
-use super::build::{ChildRef, Node, WideBvh, WIDTH};
+use super::build::{Node, WideBvh, WIDTH};
 use super::queries::{better, Found, HitData};
-use super::traverse::{run_loop, BoxTest, Prepared, Visitor, FAR_SCALE, STACK};
+use super::traverse::{run_loop, with_stack, BoxTest, Prepared, Visitor, FAR_SCALE};
 use super::triangles::{Ray, TrianglePacket, LANES, PAD};
 
 /// Most rays in a bundle: eight AVX2 registers of rays at the leaves.
@@ -335,15 +334,9 @@ pub(super) unsafe fn closest_hits(
     }
     let bundle = Bundle::new(rays);
     let mut closest = ClosestBundle::new(rays, data);
-    let mut on_call_stack = [const { MaybeUninit::<(ChildRef, f32)>::uninit() }; STACK];
-    let mut on_heap = Vec::new();
-    let stack = if bvh.max_stack <= STACK {
-        &mut on_call_stack[..]
-    } else {
-        on_heap.resize(bvh.max_stack, MaybeUninit::<(ChildRef, f32)>::uninit());
-        &mut on_heap[..]
-    };
-    run_loop::<Avx2BundleBoxes, _>(bvh, &bundle, &mut closest, stack);
+    with_stack(bvh, |stack| {
+        run_loop::<Avx2BundleBoxes, _>(bvh, &bundle, &mut closest, stack)
+    });
     closest.found
 }
 

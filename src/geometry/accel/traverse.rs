@@ -130,12 +130,23 @@ impl Prepared {
 /// Runs `visitor` over the BVH along `ray`.
 pub(super) fn traverse<V: Visitor>(bvh: &WideBvh, simd: Simd, ray: &Ray, visitor: &mut V) {
     let p = Prepared::new(ray);
+    with_stack(bvh, |stack| dispatch(bvh, simd, &p, visitor, stack));
+}
+
+/// Runs `f` with a traversal stack of `bvh.max_stack` entries: on the call stack ([`STACK`]
+/// entries), or on the heap for a deeper BVH (a pathological scene).
+#[inline(always)]
+pub(super) fn with_stack<R>(
+    bvh: &WideBvh,
+    f: impl FnOnce(&mut [MaybeUninit<(ChildRef, f32)>]) -> R,
+) -> R {
     if bvh.max_stack <= STACK {
-        let mut stack = [const { MaybeUninit::<(ChildRef, f32)>::uninit() }; STACK];
-        dispatch(bvh, simd, &p, visitor, &mut stack);
+        f(&mut [const { MaybeUninit::<(ChildRef, f32)>::uninit() }; STACK])
     } else {
-        let mut stack = vec![MaybeUninit::<(ChildRef, f32)>::uninit(); bvh.max_stack];
-        dispatch(bvh, simd, &p, visitor, &mut stack);
+        f(&mut vec![
+            MaybeUninit::<(ChildRef, f32)>::uninit();
+            bvh.max_stack
+        ])
     }
 }
 
